@@ -1,0 +1,34 @@
+/* elasticity.h - bilinear quadrilateral (Q4) plane elasticity, small strain.
+ *
+ * Hand-written Q4 kernels rather than PetscFE: the contact module needs the
+ * element-to-vertex map and cell stresses anyway, the kernels are 100 lines,
+ * and they are unit-tested on their own (tests/test_q4.c).  Voigt order
+ * [xx, yy, xy] with engineering shear strain. */
+#ifndef M2D_ELASTICITY_H
+#define M2D_ELASTICITY_H
+#include "mesh.h"
+#include "scene.h"
+
+/* material matrix (3x3, row major) */
+void M2dMaterialMatrix(PetscReal E, PetscReal nu, PlaneMode plane, PetscReal D[9]);
+/* shape function values and x,y-derivatives at (xi, eta); returns det J */
+PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal N[4], PetscReal dN[8]);
+/* element stiffness (8x8 row major, dofs [u0x u0y u1x ...]), 2x2 Gauss */
+void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscReal Ke[64]);
+/* area-averaged stress [sxx, syy, sxy] of the element */
+void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], const PetscReal ue[8], PetscReal sig[3]);
+
+/* assemble K and the load vector f (edge loads, body force of the MMS) */
+PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f);
+/* Dirichlet rows (global, locally owned) and their values; PetscFree2 them */
+PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals);
+/* Apply Dirichlet rows to K, f (symmetric elimination, u set on those rows) */
+PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);
+/* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */
+PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscReal *stress);
+
+/* manufactured solution (-exact mms) on body b */
+void M2dMMSDisplacement(const Scene *s, PetscReal x, PetscReal y, PetscReal u[2]);
+/* L2 norm of u_h - u_exact and of u_exact (global) */
+PetscErrorCode ElasticityMMSError(const Mesh *m, const Scene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax);
+#endif

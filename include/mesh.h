@@ -1,0 +1,37 @@
+/* mesh.h - the two (or more) bodies in one distributed DMPlex.
+ *
+ * Rank 0 reads the .msh file(s) with the strict reader (msh.h), validates them
+ * (quads only, positive corner Jacobians, every physical name the options ask
+ * for), merges the files, and builds an interpolated DMPlex from the cell list.
+ * Each gmsh physical group becomes a DMLabel "m2d:NAME" (value 1) on cells,
+ * edges or vertices; label "m2d:body" holds the body index of each cell.
+ * The plex is then distributed; one vertex carries the 2 displacement dofs. */
+#ifndef M2D_MESH_H
+#define M2D_MESH_H
+#include <petscdmplex.h>
+#include "scene.h"
+
+#define M2D_MAX_GROUPS 256
+
+typedef struct {
+  DM        dm;
+  PetscInt  cStart, cEnd, eStart, eEnd, vStart, vEnd;
+  PetscInt *cellverts; /* 4 vertex points per local cell, counter-clockwise */
+  PetscInt *cellbody;  /* body index per local cell */
+  PetscInt  ngroup;
+  char      group[M2D_MAX_GROUPS][M2D_NAME_LEN];
+  PetscInt  groupdim[M2D_MAX_GROUPS];
+  PetscInt  ncell_global, nvert_global;
+  char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
+} Mesh;
+
+PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m);
+PetscErrorCode MeshDestroy(Mesh *m);
+/* dimension of a physical group, -1 if the mesh has none of that name */
+PetscInt       MeshGroupDim(const Mesh *m, const char *name);
+/* Local points of a group: for curves the edges, for points the vertices.
+ * Errors with a message naming `option` if the group does not exist. */
+PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *option, IS *is);
+/* Cell coordinates, counter-clockwise: xy[8] */
+void MeshCellCoordinates(const Mesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);
+#endif

@@ -1,0 +1,63 @@
+/* scene.h - everything a run is asked to do, read from the PETSc options
+ * database (an options file per scene in options/). */
+#ifndef M2D_SCENE_H
+#define M2D_SCENE_H
+#include <petscsys.h>
+
+#define M2D_MAX_BODIES 8
+#define M2D_MAX_BC     32
+#define M2D_NAME_LEN   128
+
+typedef enum {
+  PLANE_STRAIN,
+  PLANE_STRESS
+} PlaneMode;
+
+typedef enum {
+  EXACT_NONE,
+  EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 */
+  EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
+} ExactKind;
+
+typedef struct {
+  char      name[M2D_NAME_LEN]; /* physical surface name */
+  PetscReal E, nu;
+} Body;
+
+typedef struct {
+  char      group[M2D_NAME_LEN]; /* physical curve or point */
+  PetscBool comp[2];             /* which of u_x, u_y are prescribed */
+  PetscReal value[2];
+} DirichletBC;
+
+typedef struct {
+  char      group[M2D_NAME_LEN]; /* physical curve */
+  PetscBool is_pressure;
+  PetscReal p;    /* pressure, positive pushing into the body */
+  PetscReal t[2]; /* traction vector */
+} EdgeLoad;
+
+typedef struct {
+  PetscInt    nmesh;
+  char        mesh[2][PETSC_MAX_PATH_LEN];
+  PetscInt    nbody; /* 0 = every physical surface is a body */
+  Body        body[M2D_MAX_BODIES];
+  PlaneMode   plane;
+  PetscInt    ndir;
+  DirichletBC dir[M2D_MAX_BC];
+  PetscInt    nload;
+  EdgeLoad    load[M2D_MAX_BC];
+  ExactKind   exact;
+  PetscReal   mms_amplitude;
+  char        outdir[PETSC_MAX_PATH_LEN];
+  char        outname[M2D_NAME_LEN];
+  char        summary[PETSC_MAX_PATH_LEN];
+  PetscBool   write_vtu, write_hdf5;
+  PetscBool   help;
+} Scene;
+
+PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s);
+/* Materials are read per body once the body names are known (after the mesh). */
+PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s);
+PetscErrorCode SceneView(MPI_Comm comm, const Scene *s);
+#endif

@@ -1,0 +1,35 @@
+# Generate the .msh files the options files and tests use, from the .geo sources.
+# m2d_mesh(<output name> <geo> [PARAM VALUE ...]) -> ${CMAKE_BINARY_DIR}/meshes/<name>.msh
+set(M2D_MESH_DIR ${CMAKE_BINARY_DIR}/meshes)
+file(MAKE_DIRECTORY ${M2D_MESH_DIR})
+set(M2D_MESHES)
+function(m2d_mesh name geo)
+  set(args)
+  set(params ${ARGN})
+  list(LENGTH params n)
+  while(n GREATER 1)
+    list(POP_FRONT params key value)
+    list(APPEND args -setnumber ${key} ${value})
+    list(LENGTH params n)
+  endwhile()
+  set(out ${M2D_MESH_DIR}/${name}.msh)
+  add_custom_command(OUTPUT ${out}
+    COMMAND ${GMSH_EXECUTABLE} -2 -format msh41 -v 2 ${args} ${CMAKE_SOURCE_DIR}/meshes/${geo} -o ${out}
+    DEPENDS ${CMAKE_SOURCE_DIR}/meshes/${geo}
+    COMMENT "gmsh ${geo} ${args} -> meshes/${name}.msh" VERBATIM)
+  set(M2D_MESHES ${M2D_MESHES} ${out} PARENT_SCOPE)
+endfunction()
+
+# single block: levels for the manufactured-solution convergence study
+foreach(n 4 8 16 32 64)
+  m2d_mesh(block_${n} block.geo n ${n})
+endforeach()
+m2d_mesh(block block.geo n 4)
+# S2: one file holding both bodies, and one file per body
+m2d_mesh(patch_uniform patch_uniform.geo)
+m2d_mesh(patch_uniform_lower patch_uniform.geo body 1)
+m2d_mesh(patch_uniform_upper patch_uniform.geo body 2)
+# S1: the seed report's patch test
+m2d_mesh(seed_patch seed_patch.geo)
+
+add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})

@@ -1,0 +1,426 @@
+/* elasticity.c - Q4 plane elasticity: kernels, assembly, loads, Dirichlet,
+ * stresses and the manufactured solution (see elasticity.h). */
+#include "elasticity.h"
+#include <petscsf.h>
+#include <string.h>
+
+static const PetscReal g2[2] = {-0.57735026918962576451, 0.57735026918962576451};
+static const PetscReal g3[3] = {-0.77459666924148337704, 0.0, 0.77459666924148337704};
+static const PetscReal w3[3] = {0.55555555555555555556, 0.88888888888888888889, 0.55555555555555555556};
+
+void M2dMaterialMatrix(PetscReal E, PetscReal nu, PlaneMode plane, PetscReal D[9])
+{
+  PetscReal c;
+  memset(D, 0, 9 * sizeof(PetscReal));
+  if (plane == PLANE_STRAIN) {
+    c    = E / ((1 + nu) * (1 - 2 * nu));
+    D[0] = D[4] = c * (1 - nu);
+    D[1] = D[3] = c * nu;
+    D[8]        = c * (1 - 2 * nu) / 2;
+  } else {
+    c    = E / (1 - nu * nu);
+    D[0] = D[4] = c;
+    D[1] = D[3] = c * nu;
+    D[8]        = c * (1 - nu) / 2;
+  }
+}
+
+PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal N[4], PetscReal dN[8])
+{
+  static const PetscReal sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+  PetscReal              dxi[4], deta[4], J[4] = {0, 0, 0, 0}, det;
+  for (int a = 0; a < 4; a++) {
+    N[a]    = 0.25 * (1 + sx[a] * xi) * (1 + sy[a] * eta);
+    dxi[a]  = 0.25 * sx[a] * (1 + sy[a] * eta);
+    deta[a] = 0.25 * sy[a] * (1 + sx[a] * xi);
+    J[0] += dxi[a] * xy[2 * a];      /* dx/dxi */
+    J[1] += deta[a] * xy[2 * a];     /* dx/deta */
+    J[2] += dxi[a] * xy[2 * a + 1];  /* dy/dxi */
+    J[3] += deta[a] * xy[2 * a + 1]; /* dy/deta */
+  }
+  det = J[0] * J[3] - J[1] * J[2];
+  for (int a = 0; a < 4; a++) {
+    dN[2 * a]     = (J[3] * dxi[a] - J[2] * deta[a]) / det;
+    dN[2 * a + 1] = (-J[1] * dxi[a] + J[0] * deta[a]) / det;
+  }
+  return det;
+}
+
+void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscReal Ke[64])
+{
+  memset(Ke, 0, 64 * sizeof(PetscReal));
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      PetscReal N[4], dN[8], B[3][8], DB[3][8];
+      PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
+      memset(B, 0, sizeof(B));
+      for (int a = 0; a < 4; a++) {
+        B[0][2 * a]     = dN[2 * a];
+        B[1][2 * a + 1] = dN[2 * a + 1];
+        B[2][2 * a]     = dN[2 * a + 1];
+        B[2][2 * a + 1] = dN[2 * a];
+      }
+      for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 8; k++) DB[r][k] = D[3 * r] * B[0][k] + D[3 * r + 1] * B[1][k] + D[3 * r + 2] * B[2][k];
+      for (int k = 0; k < 8; k++)
+        for (int l = 0; l < 8; l++) Ke[8 * k + l] += w * (B[0][k] * DB[0][l] + B[1][k] * DB[1][l] + B[2][k] * DB[2][l]);
+    }
+}
+
+void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], const PetscReal ue[8], PetscReal sig[3])
+{
+  PetscReal area = 0;
+  sig[0] = sig[1] = sig[2] = 0;
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      PetscReal N[4], dN[8], eps[3] = {0, 0, 0};
+      PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
+      for (int a = 0; a < 4; a++) {
+        eps[0] += dN[2 * a] * ue[2 * a];
+        eps[1] += dN[2 * a + 1] * ue[2 * a + 1];
+        eps[2] += dN[2 * a + 1] * ue[2 * a] + dN[2 * a] * ue[2 * a + 1];
+      }
+      for (int r = 0; r < 3; r++) sig[r] += w * (D[3 * r] * eps[0] + D[3 * r + 1] * eps[1] + D[3 * r + 2] * eps[2]);
+      area += w;
+    }
+  for (int r = 0; r < 3; r++) sig[r] /= area;
+}
+
+/* ---------- manufactured solution ----------
+ * u_x = A sin(pi x) cos(pi y), u_y = A cos(pi x) sin(pi y) on every body, with
+ * the body force f = -div sigma(u) for that body's Lame constants (plane stress
+ * uses the effective lambda* = 2 lambda mu / (lambda + 2 mu)). */
+void M2dMMSDisplacement(const Scene *s, PetscReal x, PetscReal y, PetscReal u[2])
+{
+  const PetscReal A = s->mms_amplitude;
+  u[0]              = A * PetscSinReal(PETSC_PI * x) * PetscCosReal(PETSC_PI * y);
+  u[1]              = A * PetscCosReal(PETSC_PI * x) * PetscSinReal(PETSC_PI * y);
+}
+
+static void MMSBodyForce(const Scene *s, const Body *b, PetscReal x, PetscReal y, PetscReal f[2])
+{
+  const PetscReal A = s->mms_amplitude, pi2 = PETSC_PI * PETSC_PI;
+  PetscReal       mu = b->E / (2 * (1 + b->nu)), lam = b->E * b->nu / ((1 + b->nu) * (1 - 2 * b->nu));
+  PetscReal       sx = PetscSinReal(PETSC_PI * x), cx = PetscCosReal(PETSC_PI * x), sy = PetscSinReal(PETSC_PI * y), cy = PetscCosReal(PETSC_PI * y);
+  PetscReal       ux = A * sx * cy, uy = A * cx * sy;
+  PetscReal       ux_xx = -pi2 * ux, ux_yy = -pi2 * ux, ux_xy = -A * pi2 * cx * sy;
+  PetscReal       uy_xx = -pi2 * uy, uy_yy = -pi2 * uy, uy_xy = -A * pi2 * sx * cy;
+  if (s->plane == PLANE_STRESS) lam = 2 * lam * mu / (lam + 2 * mu);
+  f[0] = -(mu * (ux_xx + ux_yy) + (lam + mu) * (ux_xx + uy_xy));
+  f[1] = -(mu * (uy_xx + uy_yy) + (lam + mu) * (ux_xy + uy_yy));
+}
+
+static PetscErrorCode CellDofs(const Mesh *m, PetscSection lsec, PetscInt c, PetscInt idx[8])
+{
+  PetscFunctionBeginUser;
+  for (int a = 0; a < 4; a++) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(lsec, m->cellverts[4 * (c - m->cStart) + a], &off));
+    idx[2 * a]     = off;
+    idx[2 * a + 1] = off + 1;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscScalar *ca, PetscSection cs, PetscSection lsec, PetscScalar *fl)
+{
+  PetscSF         sf;
+  PetscInt        nleaves;
+  const PetscInt *leaves;
+  PetscBool      *ghost;
+  PetscInt        pStart, pEnd;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetPointSF(m->dm, &sf));
+  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
+  PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
+  PetscCall(PetscCalloc1(pEnd - pStart, &ghost));
+  for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) ghost[(leaves ? leaves[i] : i) - pStart] = PETSC_TRUE;
+  for (PetscInt l = 0; l < s->nload; l++) {
+    const EdgeLoad *ld  = &s->load[l];
+    const char     *opt = ld->is_pressure ? "-pressure" : "-traction";
+    IS              is;
+    const PetscInt *pts;
+    PetscInt        n;
+    PetscCall(MeshGetGroupIS(m, ld->group, opt, &is));
+    PetscCheck(MeshGroupDim(m, ld->group) == 1, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, ld->group);
+    PetscCall(ISGetLocalSize(is, &n));
+    PetscCall(ISGetIndices(is, &pts));
+    for (PetscInt i = 0; i < n; i++) {
+      PetscInt        e = pts[i], nsupp, ncone, c, offa, offb, la, lb;
+      const PetscInt *supp, *cone;
+      PetscReal       xa[2], xb[2], t[2], nrm[2], len, cx = 0, cy = 0, xy[8];
+      if (e < m->eStart || e >= m->eEnd || ghost[e - pStart]) continue;
+      PetscCall(DMPlexGetSupportSize(m->dm, e, &nsupp));
+      PetscCall(DMPlexGetSupport(m->dm, e, &supp));
+      PetscCall(DMPlexGetConeSize(m->dm, e, &ncone));
+      PetscCall(DMPlexGetCone(m->dm, e, &cone));
+      PetscCheck(nsupp >= 1 && ncone == 2, PETSC_COMM_SELF, PETSC_ERR_PLIB, "edge %" PetscInt_FMT " without cell", e);
+      c = supp[0];
+      PetscCall(PetscSectionGetOffset(cs, cone[0], &offa));
+      PetscCall(PetscSectionGetOffset(cs, cone[1], &offb));
+      xa[0] = PetscRealPart(ca[offa]);
+      xa[1] = PetscRealPart(ca[offa + 1]);
+      xb[0] = PetscRealPart(ca[offb]);
+      xb[1] = PetscRealPart(ca[offb + 1]);
+      len    = PetscSqrtReal((xb[0] - xa[0]) * (xb[0] - xa[0]) + (xb[1] - xa[1]) * (xb[1] - xa[1]));
+      nrm[0] = (xb[1] - xa[1]) / len;
+      nrm[1] = -(xb[0] - xa[0]) / len;
+      MeshCellCoordinates(m, ca, cs, c, xy);
+      for (int k = 0; k < 4; k++) {
+        cx += 0.25 * xy[2 * k];
+        cy += 0.25 * xy[2 * k + 1];
+      }
+      if ((0.5 * (xa[0] + xb[0]) - cx) * nrm[0] + (0.5 * (xa[1] + xb[1]) - cy) * nrm[1] < 0) {
+        nrm[0] = -nrm[0];
+        nrm[1] = -nrm[1];
+      }
+      if (ld->is_pressure) {
+        t[0] = -ld->p * nrm[0];
+        t[1] = -ld->p * nrm[1];
+      } else {
+        t[0] = ld->t[0];
+        t[1] = ld->t[1];
+      }
+      PetscCall(PetscSectionGetOffset(lsec, cone[0], &la));
+      PetscCall(PetscSectionGetOffset(lsec, cone[1], &lb));
+      for (int d = 0; d < 2; d++) {
+        fl[la + d] += 0.5 * len * t[d];
+        fl[lb + d] += 0.5 * len * t[d];
+      }
+    }
+    PetscCall(ISRestoreIndices(is, &pts));
+    PetscCall(ISDestroy(&is));
+  }
+  PetscCall(PetscFree(ghost));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
+{
+  PetscSection       lsec, cs;
+  Vec                cl, fl;
+  const PetscScalar *ca;
+  PetscScalar       *fa;
+  PetscReal          D[M2D_MAX_BODIES][9];
+
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < s->nbody; b++) M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(DMGetLocalVector(m->dm, &fl));
+  PetscCall(VecZeroEntries(fl));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(VecGetArray(fl, &fa));
+  for (PetscInt c = m->cStart; c < m->cEnd; c++) {
+    PetscReal   xy[8], Ke[64];
+    PetscInt    idx[8];
+    PetscInt    b = m->cellbody[c - m->cStart];
+    MeshCellCoordinates(m, ca, cs, c, xy);
+    Q4Stiffness(xy, D[b], Ke);
+    PetscCall(CellDofs(m, lsec, c, idx));
+    PetscCall(MatSetValuesLocal(K, 8, idx, 8, idx, Ke, ADD_VALUES));
+    if (s->exact == EXACT_MMS) { /* body force, 3x3 Gauss */
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+          PetscReal N[4], dN[8], x = 0, y = 0, fb[2];
+          PetscReal w = w3[i] * w3[j] * Q4Shape(xy, g3[i], g3[j], N, dN);
+          for (int a = 0; a < 4; a++) {
+            x += N[a] * xy[2 * a];
+            y += N[a] * xy[2 * a + 1];
+          }
+          MMSBodyForce(s, &s->body[b], x, y, fb);
+          for (int a = 0; a < 4; a++) {
+            fa[idx[2 * a]] += w * N[a] * fb[0];
+            fa[idx[2 * a + 1]] += w * N[a] * fb[1];
+          }
+        }
+    }
+  }
+  PetscCall(AddEdgeLoads(m, s, ca, cs, lsec, fa));
+  PetscCall(VecRestoreArray(fl, &fa));
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
+  PetscCall(VecZeroEntries(f));
+  PetscCall(DMLocalToGlobal(m->dm, fl, ADD_VALUES, f));
+  PetscCall(DMRestoreLocalVector(m->dm, &fl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals)
+{
+  PetscSection       gsec, cs;
+  Vec                cl;
+  const PetscScalar *ca;
+  PetscInt           nv = m->vEnd - m->vStart, cnt = 0;
+  PetscInt          *flag; /* bit 0: x fixed, bit 1: y fixed */
+  PetscReal         *value;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(PetscCalloc2(nv, &flag, 2 * nv, &value));
+  for (PetscInt k = 0; k < s->ndir; k++) {
+    const DirichletBC *bc = &s->dir[k];
+    IS                 is;
+    const PetscInt    *pts;
+    PetscInt           np;
+    PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
+    PetscCall(ISGetLocalSize(is, &np));
+    PetscCall(ISGetIndices(is, &pts));
+    for (PetscInt i = 0; i < np; i++) {
+      PetscInt        vv[2], nvv = 0;
+      const PetscInt *cone;
+      if (pts[i] >= m->vStart && pts[i] < m->vEnd) vv[nvv++] = pts[i];
+      else if (pts[i] >= m->eStart && pts[i] < m->eEnd) {
+        PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
+        vv[nvv++] = cone[0];
+        vv[nvv++] = cone[1];
+      }
+      for (PetscInt j = 0; j < nvv; j++)
+        for (int d = 0; d < 2; d++)
+          if (bc->comp[d]) {
+            flag[vv[j] - m->vStart] |= 1 << d;
+            value[2 * (vv[j] - m->vStart) + d] = bc->value[d];
+          }
+    }
+    PetscCall(ISRestoreIndices(is, &pts));
+    PetscCall(ISDestroy(&is));
+  }
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt goff;
+    PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
+    if (goff < 0) flag[v] = 0; /* owned by another rank, which sets it */
+    cnt += (flag[v] & 1) + ((flag[v] >> 1) & 1);
+  }
+  PetscCall(PetscMalloc2(cnt, rows, cnt, vals));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  cnt = 0;
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt  goff, coff;
+    PetscReal ue[2] = {0, 0};
+    if (!flag[v]) continue;
+    PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
+    if (s->exact == EXACT_MMS) {
+      PetscCall(PetscSectionGetOffset(cs, v + m->vStart, &coff));
+      M2dMMSDisplacement(s, PetscRealPart(ca[coff]), PetscRealPart(ca[coff + 1]), ue);
+    }
+    for (int d = 0; d < 2; d++)
+      if (flag[v] & (1 << d)) {
+        (*rows)[cnt]   = goff + d;
+        (*vals)[cnt++] = s->exact == EXACT_MMS ? ue[d] : value[2 * v + d];
+      }
+  }
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(PetscFree2(flag, value));
+  *n = cnt;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[])
+{
+  PetscReal diag;
+  PetscInt  N;
+  Vec       d;
+
+  PetscFunctionBeginUser;
+  /* scale the unit rows like K's diagonal, so they do not spoil the conditioning */
+  PetscCall(MatCreateVecs(K, &d, NULL));
+  PetscCall(MatGetDiagonal(K, d));
+  PetscCall(VecNorm(d, NORM_1, &diag));
+  PetscCall(VecGetSize(d, &N));
+  PetscCall(VecDestroy(&d));
+  diag = N > 0 && diag > 0 ? diag / N : 1.0;
+  PetscCall(VecZeroEntries(u));
+  PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(u));
+  PetscCall(VecAssemblyEnd(u));
+  PetscCall(MatZeroRowsColumns(K, n, rows, diag, u, f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscReal *stress)
+{
+  PetscSection       lsec, cs;
+  Vec                cl, ul;
+  const PetscScalar *ca, *ua;
+  PetscReal          D[M2D_MAX_BODIES][9];
+
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < s->nbody; b++) M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(DMGetLocalVector(m->dm, &ul));
+  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, ul));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(VecGetArrayRead(ul, &ua));
+  for (PetscInt c = m->cStart; c < m->cEnd; c++) {
+    PetscReal  xy[8], ue[8], sig[3], sz, *out = &stress[5 * (c - m->cStart)];
+    PetscInt   idx[8], b = m->cellbody[c - m->cStart];
+    MeshCellCoordinates(m, ca, cs, c, xy);
+    PetscCall(CellDofs(m, lsec, c, idx));
+    for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ua[idx[k]]);
+    Q4AverageStress(xy, D[b], ue, sig);
+    sz     = s->plane == PLANE_STRAIN ? s->body[b].nu * (sig[0] + sig[1]) : 0.0;
+    out[0] = sig[0];
+    out[1] = sig[1];
+    out[2] = sz;
+    out[3] = sig[2];
+    out[4] = PetscSqrtReal(0.5 * ((sig[0] - sig[1]) * (sig[0] - sig[1]) + (sig[1] - sz) * (sig[1] - sz) + (sz - sig[0]) * (sz - sig[0])) + 3 * sig[2] * sig[2]);
+  }
+  PetscCall(VecRestoreArrayRead(ul, &ua));
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(DMRestoreLocalVector(m->dm, &ul));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityMMSError(const Mesh *m, const Scene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax)
+{
+  PetscSection       lsec, cs;
+  Vec                cl, ul;
+  const PetscScalar *ca, *ua;
+  PetscReal          loc[2] = {0, 0}, h = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(DMGetLocalVector(m->dm, &ul));
+  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, ul));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(VecGetArrayRead(ul, &ua));
+  for (PetscInt c = m->cStart; c < m->cEnd; c++) {
+    PetscReal xy[8];
+    PetscInt  idx[8];
+    MeshCellCoordinates(m, ca, cs, c, xy);
+    PetscCall(CellDofs(m, lsec, c, idx));
+    for (int a = 0; a < 4; a++)
+      for (int b = a + 1; b < 4; b++) h = PetscMax(h, PetscSqrtReal(PetscSqr(xy[2 * a] - xy[2 * b]) + PetscSqr(xy[2 * a + 1] - xy[2 * b + 1])));
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) {
+        PetscReal N[4], dN[8], x = 0, y = 0, uh[2] = {0, 0}, ue[2];
+        PetscReal w = w3[i] * w3[j] * Q4Shape(xy, g3[i], g3[j], N, dN);
+        for (int a = 0; a < 4; a++) {
+          x += N[a] * xy[2 * a];
+          y += N[a] * xy[2 * a + 1];
+          uh[0] += N[a] * PetscRealPart(ua[idx[2 * a]]);
+          uh[1] += N[a] * PetscRealPart(ua[idx[2 * a + 1]]);
+        }
+        M2dMMSDisplacement(s, x, y, ue);
+        loc[0] += w * (PetscSqr(uh[0] - ue[0]) + PetscSqr(uh[1] - ue[1]));
+        loc[1] += w * (PetscSqr(ue[0]) + PetscSqr(ue[1]));
+      }
+  }
+  PetscCall(VecRestoreArrayRead(ul, &ua));
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(DMRestoreLocalVector(m->dm, &ul));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
+  PetscCallMPI(MPI_Allreduce(&h, hmax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)m->dm)));
+  *err  = PetscSqrtReal(loc[0]);
+  *norm = PetscSqrtReal(loc[1]);
+  PetscFunctionReturn(0);
+}

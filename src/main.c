@@ -1,0 +1,230 @@
+/* main.c - mortar2d: read a scene from the options database, run it, write results.
+ *
+ *   mortar2d -options_file options/block.opts [-output_dir out] [-summary out/summary.json]
+ *
+ * Phases (each a -log_view stage): Mesh (read, validate, distribute), Assembly
+ * (Q4 stiffness, loads, Dirichlet rows), Solve (KSP from the options database,
+ * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, summary). */
+#include "elasticity.h"
+#include "mesh.h"
+#include "output.h"
+#include "scene.h"
+#include "util.h"
+#include <petscksp.h>
+
+static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies with Q4 elements and the mortar method.\n"
+                           "Scenes are options files in options/; see README.md for every option.\n\n";
+
+typedef enum {
+  ST_MESH,
+  ST_ASSEMBLY,
+  ST_SOLVE,
+  ST_OUTPUT,
+  ST_COUNT
+} StageId;
+static const char *stage_name[ST_COUNT] = {"mesh", "assembly", "solve", "output"};
+
+static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
+{
+  PetscMPIInt rank;
+  char        msg[1024] = "";
+  int         bad       = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0 && (s->write_vtu || s->write_hdf5)) {
+    char why[900];
+    if (M2dMakeDirs(s->outdir, why, sizeof(why))) {
+      snprintf(msg, sizeof(msg), "option -output_dir: %s", why);
+      bad = 1;
+    }
+  }
+  PetscCall(M2dCheckCollective(comm, bad ? PETSC_TRUE : PETSC_FALSE, msg));
+  PetscFunctionReturn(0);
+}
+
+/* every physical group the options name must exist, before any work is done */
+static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < s->ndir; i++) {
+    PetscInt d = MeshGroupDim(m, s->dir[i].group);
+    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: mesh file(s) %s have no physical group '%s'", m->files, s->dir[i].group);
+    PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: physical group '%s' is a surface; name a curve or a point", s->dir[i].group);
+  }
+  for (PetscInt i = 0; i < s->nload; i++) {
+    const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
+    PetscInt    d   = MeshGroupDim(m, s->load[i].group);
+    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, s->load[i].group);
+    PetscCheck(d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, s->load[i].group);
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Run(MPI_Comm comm)
+{
+  Scene         s;
+  Mesh          m;
+  Mat           K;
+  Vec           f, u;
+  KSP           ksp;
+  PetscLogStage stage[ST_COUNT];
+  double        t[ST_COUNT + 1], tstart;
+  PetscInt      ndir, *drows, nlc, its;
+  PetscScalar  *dvals;
+  PetscReal    *stress;
+  PetscMPIInt   size;
+  Summary      *sum;
+  KSPConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  tstart = M2dWallTime();
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  for (int k = 0; k < ST_COUNT; k++) {
+    char name[32];
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%c%s", stage_name[k][0] - 32, stage_name[k] + 1));
+    PetscCall(PetscLogStageRegister(name, &stage[k]));
+    t[k] = 0;
+  }
+  PetscCall(SceneReadOptions(comm, &s));
+  if (s.help) { /* document the per-body options too, then stop */
+    if (s.nbody == 0) {
+      s.nbody = 1;
+      PetscCall(PetscStrncpy(s.body[0].name, "BODY", sizeof(s.body[0].name)));
+    }
+    PetscCall(SceneReadMaterials(comm, &s));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(CheckOutputDir(comm, &s));
+
+  PetscCall(PetscLogStagePush(stage[ST_MESH]));
+  t[ST_MESH] = M2dWallTime();
+  PetscCall(MeshCreate(comm, &s, &m));
+  PetscCall(SceneReadMaterials(comm, &s));
+  PetscCall(CheckGroups(comm, &s, &m));
+  PetscCall(SceneView(comm, &s));
+  t[ST_MESH] = M2dWallTime() - t[ST_MESH];
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(PetscLogStagePush(stage[ST_ASSEMBLY]));
+  t[ST_ASSEMBLY] = M2dWallTime();
+  PetscCall(DMCreateMatrix(m.dm, &K));
+  PetscCall(MatSetOption(K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(DMCreateGlobalVector(m.dm, &f));
+  PetscCall(VecDuplicate(f, &u));
+  PetscCall(PetscObjectSetName((PetscObject)u, "displacement"));
+  PetscCall(ElasticityAssemble(&m, &s, K, f));
+  PetscCall(ElasticityDirichletRows(&m, &s, &ndir, &drows, &dvals));
+  PetscCall(ElasticityApplyDirichlet(K, f, u, ndir, drows, dvals));
+  PetscCall(PetscFree2(drows, dvals));
+  t[ST_ASSEMBLY] = M2dWallTime() - t[ST_ASSEMBLY];
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(PetscLogStagePush(stage[ST_SOLVE]));
+  t[ST_SOLVE] = M2dWallTime();
+  PetscCall(KSPCreate(comm, &ksp));
+  PetscCall(KSPSetOperators(ksp, K, K));
+  { /* defaults: a direct solve with MUMPS; -ksp_type/-pc_type override */
+    PC pc;
+    PetscCall(KSPSetType(ksp, KSPPREONLY));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  }
+  PetscCall(KSPSetFromOptions(ksp));
+  PetscCall(KSPSolve(ksp, f, u));
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  PetscCheck(reason > 0, comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
+  t[ST_SOLVE] = M2dWallTime() - t[ST_SOLVE];
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(PetscLogStagePush(stage[ST_OUTPUT]));
+  t[ST_OUTPUT] = M2dWallTime();
+  PetscCall(PetscCalloc1(1, &sum));
+  nlc = m.cEnd - m.cStart;
+  PetscCall(PetscMalloc1(6 * nlc + 1, &stress));
+  PetscCall(ElasticityCellStress(&m, &s, u, stress)); /* 5 per cell */
+  {
+    /* re-pack as 6 per cell: 5 stresses + body id */
+    for (PetscInt c = nlc - 1; c >= 0; c--) {
+      for (int k = 4; k >= 0; k--) stress[6 * c + k] = stress[5 * c + k];
+      stress[6 * c + 5] = (PetscReal)m.cellbody[c];
+    }
+  }
+  SummaryString(sum, "", "program", "mortar2d");
+  SummaryInt(sum, "", "dofs", 2 * m.nvert_global);
+  SummaryInt(sum, "", "cells", m.ncell_global);
+  SummaryInt(sum, "", "ranks", size);
+  SummaryInt(sum, "", "bodies", s.nbody);
+  SummaryString(sum, "", "plane", s.plane == PLANE_STRAIN ? "strain" : "stress");
+  SummaryInt(sum, "", "ksp_iterations", its);
+  if (s.exact == EXACT_UNIFORM) {
+    PetscReal p = s.load[0].p, e[3] = {0, 0, 0};
+    for (PetscInt c = 0; c < nlc; c++) {
+      e[0] = PetscMax(e[0], PetscAbsReal(stress[6 * c + 1] + p) / PetscAbsReal(p));
+      e[1] = PetscMax(e[1], PetscAbsReal(stress[6 * c + 0]) / PetscAbsReal(p));
+      e[2] = PetscMax(e[2], PetscAbsReal(stress[6 * c + 3]) / PetscAbsReal(p));
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, e, 3, MPIU_REAL, MPI_MAX, comm));
+    SummaryReal(sum, "error", "sigma_yy_max_rel", e[0]);
+    SummaryReal(sum, "error", "sigma_xx_max_rel", e[1]);
+    SummaryReal(sum, "error", "sigma_xy_max_rel", e[2]);
+    PetscCall(PetscPrintf(comm, "uniform stress check: max |sigma_yy + p|/p = %.3e, max |sigma_xx|/p = %.3e, max |sigma_xy|/p = %.3e\n", (double)e[0], (double)e[1], (double)e[2]));
+  } else if (s.exact == EXACT_MMS) {
+    PetscReal err, nrm, h;
+    PetscCall(ElasticityMMSError(&m, &s, u, &err, &nrm, &h));
+    SummaryReal(sum, "error", "u_l2", err);
+    SummaryReal(sum, "error", "u_l2_rel", err / nrm);
+    SummaryReal(sum, "error", "h", h);
+    PetscCall(PetscPrintf(comm, "manufactured solution: h = %.4e, L2 displacement error = %.6e (relative %.6e)\n", (double)h, (double)err, (double)(err / nrm)));
+  }
+  {
+    FieldSet fs;
+    PetscCall(PetscMemzero(&fs, sizeof(fs)));
+    fs.point[fs.npoint++] = (PointField){"displacement", u, PETSC_TRUE, 0};
+    const char *cname[6]  = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+    for (int k = 0; k < 6; k++) fs.cell[fs.ncell++] = (CellField){cname[k], stress, 6, k};
+    PetscCall(OutputWrite(&m, s.outdir, s.outname, s.write_vtu, s.write_hdf5, &fs));
+  }
+  t[ST_OUTPUT] = M2dWallTime() - t[ST_OUTPUT];
+  PetscCall(PetscLogStagePop());
+  t[ST_COUNT] = M2dWallTime() - tstart;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, t, ST_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
+  for (int k = 0; k < ST_COUNT; k++) SummaryReal(sum, "time", stage_name[k], t[k]);
+  SummaryReal(sum, "time", "total", t[ST_COUNT]);
+  if (s.write_vtu || s.write_hdf5) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s.outdir, s.outname, s.write_hdf5 ? "h5,xmf" : "", s.write_hdf5 && s.write_vtu ? "," : "", s.write_vtu ? "vtu" : ""));
+  PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * m.nvert_global, t[0], t[1], t[2], t[3], t[4]));
+  PetscCall(SummaryWrite(comm, s.summary, sum));
+
+  PetscCall(PetscFree(sum));
+  PetscCall(PetscFree(stress));
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(VecDestroy(&u));
+  PetscCall(VecDestroy(&f));
+  PetscCall(MatDestroy(&K));
+  PetscCall(MeshDestroy(&m));
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv)
+{
+  PetscErrorCode ierr;
+  PetscMPIInt    rank;
+
+  ierr = PetscInitialize(&argc, &argv, NULL, help);
+  if (ierr) return 1;
+  ierr = M2dInstallErrorHandler();
+  if (!ierr) ierr = Run(PETSC_COMM_WORLD);
+  if (ierr) {
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    if (rank == 0) fprintf(stderr, "mortar2d: error: %s\n", M2dFirstError());
+    fflush(stderr);
+    /* objects of the failed run are not freed; skip PETSc's leak report */
+    PetscOptionsClearValue(NULL, "-malloc_dump");
+    PetscFinalize();
+    return 1;
+  }
+  ierr = PetscFinalize();
+  return ierr ? 1 : 0;
+}

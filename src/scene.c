@@ -1,0 +1,187 @@
+/* scene.c - read a scene from the options database.
+ *
+ * Boundary conditions name gmsh physical groups:
+ *   -dirichlet GROUP:x|y|xy[:VALUE]   prescribed displacement component(s) (default value 0)
+ *   -pressure  GROUP:P                normal pressure P (positive pushes into the body)
+ *   -traction  GROUP:TX:TY            traction vector
+ * Several of each are given comma separated. */
+#include "scene.h"
+#include <stdlib.h>
+#include <string.h>
+
+static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *text, PetscReal *v)
+{
+  char *end;
+  PetscFunctionBeginUser;
+  *v = strtod(text, &end);
+  PetscCheck(end != text && *end == 0 && *v == *v, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: '%s' in '%s' is not a number", opt, text, entry);
+  PetscFunctionReturn(0);
+}
+
+/* split "a:b:c" in place into at most max fields */
+static int Split(char *s, char **f, int max)
+{
+  int n = 0;
+  f[n++] = s;
+  for (char *c = s; *c; c++)
+    if (*c == ':') {
+      *c = 0;
+      if (n == max) return max + 1;
+      f[n++] = c + 1;
+    }
+  return n;
+}
+
+static PetscErrorCode ReadGroupList(PetscOptionItems *PetscOptionsObject, const char *opt, const char *help, char ***entries, PetscInt *n)
+{
+  PetscBool set;
+  PetscInt  nmax = M2D_MAX_BC;
+  char    **e;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(nmax, &e));
+  PetscCall(PetscOptionsStringArray(opt, help, "", e, &nmax, &set));
+  if (!set) nmax = 0;
+  *entries = e;
+  *n       = nmax;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FreeList(char **e, PetscInt n)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n; i++) PetscCall(PetscFree(e[i]));
+  PetscCall(PetscFree(e));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
+{
+  char      plane[32] = "strain", exact[32] = "none";
+  char     *mesh[3]   = {NULL, NULL, NULL};
+  char     *bodies[M2D_MAX_BODIES + 1];
+  char    **dir, **pres, **trac;
+  PetscInt  nmesh = 3, nbodies = M2D_MAX_BODIES + 1, ndir, npres, ntrac;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(s, sizeof(*s)));
+  s->mms_amplitude = 1e-3;
+  s->write_vtu     = PETSC_TRUE;
+  s->write_hdf5    = PETSC_TRUE;
+  PetscCall(PetscStrncpy(s->outdir, "output", sizeof(s->outdir)));
+  PetscCall(PetscStrncpy(s->outname, "solution", sizeof(s->outname)));
+  PetscCall(PetscOptionsHasHelp(NULL, &s->help));
+
+  PetscOptionsBegin(comm, NULL, "mortar2d: 2D frictionless contact of elastic bodies (Q4, mortar)", "");
+  PetscCall(PetscOptionsStringArray("-mesh", "gmsh .msh file: one holding every body, or two comma-separated files (one per body)", "", mesh, &nmesh, &set));
+  s->nmesh = set ? nmesh : 0;
+  PetscCheck(nmesh <= 2, comm, PETSC_ERR_USER_INPUT, "option -mesh: at most two files, got %" PetscInt_FMT, nmesh);
+  for (PetscInt i = 0; i < s->nmesh; i++) {
+    PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
+    PetscCall(PetscFree(mesh[i]));
+  }
+  PetscCall(PetscOptionsStringArray("-bodies", "physical surface names of the bodies, comma separated (default: every physical surface is a body)", "", bodies, &nbodies, &set));
+  if (!set) nbodies = 0;
+  PetscCheck(nbodies <= M2D_MAX_BODIES, comm, PETSC_ERR_USER_INPUT, "option -bodies: at most %d bodies", M2D_MAX_BODIES);
+  s->nbody = nbodies;
+  for (PetscInt i = 0; i < nbodies; i++) {
+    PetscCall(PetscStrncpy(s->body[i].name, bodies[i], sizeof(s->body[i].name)));
+    PetscCall(PetscFree(bodies[i]));
+  }
+  PetscCall(PetscOptionsString("-plane", "plane strain or plane stress: strain|stress", "", plane, plane, sizeof(plane), NULL));
+  if (!strcmp(plane, "strain")) s->plane = PLANE_STRAIN;
+  else if (!strcmp(plane, "stress")) s->plane = PLANE_STRESS;
+  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -plane: unknown value '%s' (expected strain or stress)", plane);
+
+  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated", &dir, &ndir));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P on a physical curve (P > 0 pushes into the body), comma separated", &pres, &npres));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated", &trac, &ntrac));
+  for (PetscInt i = 0; i < ndir; i++) {
+    char        *f[4], buf[256];
+    int          nf;
+    DirichletBC *bc = &s->dir[s->ndir++];
+    PetscCall(PetscStrncpy(buf, dir[i], sizeof(buf)));
+    nf = Split(buf, f, 3);
+    PetscCheck(nf == 2 || nf == 3, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s' is not GROUP:x|y|xy[:VALUE]", dir[i]);
+    PetscCall(PetscStrncpy(bc->group, f[0], sizeof(bc->group)));
+    if (!strcmp(f[1], "x")) bc->comp[0] = PETSC_TRUE;
+    else if (!strcmp(f[1], "y")) bc->comp[1] = PETSC_TRUE;
+    else if (!strcmp(f[1], "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
+    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -dirichlet: unknown component '%s' in '%s' (expected x, y or xy)", f[1], dir[i]);
+    if (nf == 3) {
+      PetscReal v;
+      PetscCall(ParseReal("-dirichlet", dir[i], f[2], &v));
+      bc->value[0] = bc->value[1] = v;
+    }
+  }
+  for (PetscInt i = 0; i < npres; i++) {
+    char     *f[3], buf[256];
+    EdgeLoad *l = &s->load[s->nload++];
+    PetscCall(PetscStrncpy(buf, pres[i], sizeof(buf)));
+    PetscCheck(Split(buf, f, 2) == 2, comm, PETSC_ERR_USER_INPUT, "option -pressure: '%s' is not GROUP:P", pres[i]);
+    PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+    l->is_pressure = PETSC_TRUE;
+    PetscCall(ParseReal("-pressure", pres[i], f[1], &l->p));
+  }
+  for (PetscInt i = 0; i < ntrac; i++) {
+    char     *f[4], buf[256];
+    EdgeLoad *l;
+    PetscCheck(s->nload < M2D_MAX_BC, comm, PETSC_ERR_USER_INPUT, "options -pressure and -traction: at most %d loads", M2D_MAX_BC);
+    l = &s->load[s->nload++];
+    PetscCall(PetscStrncpy(buf, trac[i], sizeof(buf)));
+    PetscCheck(Split(buf, f, 3) == 3, comm, PETSC_ERR_USER_INPUT, "option -traction: '%s' is not GROUP:TX:TY", trac[i]);
+    PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+    PetscCall(ParseReal("-traction", trac[i], f[1], &l->t[0]));
+    PetscCall(ParseReal("-traction", trac[i], f[2], &l->t[1]));
+  }
+  PetscCall(FreeList(dir, ndir));
+  PetscCall(FreeList(pres, npres));
+  PetscCall(FreeList(trac, ntrac));
+
+  PetscCall(PetscOptionsString("-exact", "exact solution to compare with: none|uniform|mms (uniform: sigma_yy = -p of the first -pressure, sigma_xx = sigma_xy = 0)", "", exact, exact, sizeof(exact), NULL));
+  if (!strcmp(exact, "none")) s->exact = EXACT_NONE;
+  else if (!strcmp(exact, "uniform")) s->exact = EXACT_UNIFORM;
+  else if (!strcmp(exact, "mms")) s->exact = EXACT_MMS;
+  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -exact: unknown value '%s' (expected none, uniform or mms)", exact);
+  PetscCall(PetscOptionsReal("-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", "", s->mms_amplitude, &s->mms_amplitude, NULL));
+  PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
+  PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
+  PetscCall(PetscOptionsBool("-output_vtu", "write NAME.vtu", "", s->write_vtu, &s->write_vtu, NULL));
+  PetscCall(PetscOptionsBool("-output_hdf5", "write NAME.h5 and NAME.xmf", "", s->write_hdf5, &s->write_hdf5, NULL));
+  PetscCall(PetscOptionsString("-summary", "write a JSON summary of the run to this file (empty: none)", "", s->summary, s->summary, sizeof(s->summary), NULL));
+  PetscOptionsEnd();
+  PetscCheck(s->exact != EXACT_UNIFORM || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs a -pressure load (its value is the exact -sigma_yy)");
+  PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    char prefix[M2D_NAME_LEN + 2], title[256], help[256];
+    PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "%s_", s->body[b].name));
+    PetscCall(PetscSNPrintf(title, sizeof(title), "Material of body '%s'", s->body[b].name));
+    s->body[b].E  = 1.0;
+    s->body[b].nu = 0.3;
+    PetscOptionsBegin(comm, prefix, title, "");
+    PetscCall(PetscSNPrintf(help, sizeof(help), "Young's modulus of body %s (> 0)", s->body[b].name));
+    PetscCall(PetscOptionsReal("-E", help, "", s->body[b].E, &s->body[b].E, NULL));
+    PetscCall(PetscSNPrintf(help, sizeof(help), "Poisson ratio of body %s, in (-1, 0.5)", s->body[b].name));
+    PetscCall(PetscOptionsReal("-nu", help, "", s->body[b].nu, &s->body[b].nu, NULL));
+    PetscOptionsEnd();
+    PetscCheck(s->body[b].E > 0, comm, PETSC_ERR_USER_INPUT, "option -%sE: Young's modulus %g must be > 0", prefix, (double)s->body[b].E);
+    PetscCheck(s->body[b].nu > -1 && s->body[b].nu < 0.5, comm, PETSC_ERR_USER_INPUT, "option -%snu: Poisson ratio %g must be in (-1, 0.5)", prefix, (double)s->body[b].nu);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneView(MPI_Comm comm, const Scene *s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
+  for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
+  PetscCall(PetscPrintf(comm, "\n"));
+  PetscFunctionReturn(0);
+}

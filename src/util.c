@@ -1,0 +1,146 @@
+/* util.c - see util.h. */
+#include "util.h"
+#include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char first_error[4096];
+static int  have_error;
+
+static PetscErrorCode M2dErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+  (void)comm;
+  (void)line;
+  (void)func;
+  (void)file;
+  (void)ctx;
+  if (p == PETSC_ERROR_INITIAL && !have_error) {
+    const char *text = NULL;
+    if (mess && mess[0]) text = mess;
+    else PetscErrorMessage(n, &text, NULL);
+    snprintf(first_error, sizeof(first_error), "%s", text ? text : "unknown error");
+    /* keep it to one line */
+    for (char *c = first_error; *c; c++)
+      if (*c == '\n') *c = ' ';
+    have_error = 1;
+  }
+  return n;
+}
+
+PetscErrorCode M2dInstallErrorHandler(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(M2dErrorHandler, NULL));
+  PetscFunctionReturn(0);
+}
+
+const char *M2dFirstError(void)
+{
+  return have_error ? first_error : "unknown error";
+}
+
+void M2dClearError(void)
+{
+  have_error     = 0;
+  first_error[0] = 0;
+}
+
+PetscErrorCode M2dCheckCollective(MPI_Comm comm, PetscBool bad, const char *msg)
+{
+  PetscMPIInt rank, size, mine, first;
+  char        buf[2048];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  mine = bad ? rank : size;
+  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
+  if (first == size) PetscFunctionReturn(0);
+  buf[0] = 0;
+  if (rank == first) snprintf(buf, sizeof(buf), "%s", msg ? msg : "error");
+  PetscCallMPI(MPI_Bcast(buf, (int)sizeof(buf), MPI_CHAR, first, comm));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", buf);
+}
+
+int M2dMakeDirs(const char *path, char *msg, size_t len)
+{
+  char        tmp[PETSC_MAX_PATH_LEN];
+  struct stat st;
+  size_t      n = strlen(path);
+
+  if (n == 0 || n >= sizeof(tmp)) {
+    snprintf(msg, len, "invalid directory name '%s'", path);
+    return 1;
+  }
+  memcpy(tmp, path, n + 1);
+  for (char *p = tmp + 1; *p; p++) {
+    if (*p != '/') continue;
+    *p = 0;
+    if (mkdir(tmp, 0777) && errno != EEXIST) {
+      snprintf(msg, len, "cannot create directory '%s': %s", tmp, strerror(errno));
+      return 1;
+    }
+    *p = '/';
+  }
+  if (mkdir(tmp, 0777) && errno != EEXIST) {
+    snprintf(msg, len, "cannot create directory '%s': %s", tmp, strerror(errno));
+    return 1;
+  }
+  if (stat(tmp, &st) || !S_ISDIR(st.st_mode)) {
+    snprintf(msg, len, "'%s' is not a directory", tmp);
+    return 1;
+  }
+  if (access(tmp, W_OK)) {
+    snprintf(msg, len, "directory '%s' is not writable: %s", tmp, strerror(errno));
+    return 1;
+  }
+  return 0;
+}
+
+void M2dTmpName(const char *path, char *tmp, size_t len)
+{
+  snprintf(tmp, len, "%s.tmp%d", path, (int)getpid());
+}
+
+PetscErrorCode M2dFileOpen(const char *path, M2dFile *f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
+  M2dTmpName(path, f->tmp, sizeof(f->tmp));
+  f->fp = fopen(f->tmp, "wb");
+  PetscCheck(f->fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", f->tmp, strerror(errno));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dFileCommit(M2dFile *f)
+{
+  int bad;
+
+  PetscFunctionBeginUser;
+  bad   = ferror(f->fp);
+  bad   = fclose(f->fp) || bad;
+  f->fp = NULL;
+  if (bad) {
+    unlink(f->tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed: %s", f->final, strerror(errno));
+  }
+  if (rename(f->tmp, f->final)) {
+    int e = errno;
+    unlink(f->tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename '%s' to '%s': %s", f->tmp, f->final, strerror(e));
+  }
+  PetscFunctionReturn(0);
+}
+
+void M2dFileAbort(M2dFile *f)
+{
+  if (f->fp) fclose(f->fp);
+  f->fp = NULL;
+  unlink(f->tmp);
+}
+
+double M2dWallTime(void)
+{
+  return MPI_Wtime();
+}
