@@ -61,6 +61,20 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
   PetscFunctionReturn(0);
 }
 
+/* defaults: a direct solve with MUMPS; -ksp_type/-pc_type override */
+static PetscErrorCode SetupSolver(KSP ksp)
+{
+  PC pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(KSPSetFromOptions(ksp));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Run(MPI_Comm comm)
 {
   Scene         s;
@@ -93,6 +107,9 @@ static PetscErrorCode Run(MPI_Comm comm)
       PetscCall(PetscStrncpy(s.body[0].name, "BODY", sizeof(s.body[0].name)));
     }
     PetscCall(SceneReadMaterials(comm, &s));
+    PetscCall(KSPCreate(comm, &ksp));
+    PetscCall(SetupSolver(ksp));
+    PetscCall(KSPDestroy(&ksp));
     PetscFunctionReturn(0);
   }
   PetscCall(CheckOutputDir(comm, &s));
@@ -124,14 +141,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   t[ST_SOLVE] = M2dWallTime();
   PetscCall(KSPCreate(comm, &ksp));
   PetscCall(KSPSetOperators(ksp, K, K));
-  { /* defaults: a direct solve with MUMPS; -ksp_type/-pc_type override */
-    PC pc;
-    PetscCall(KSPSetType(ksp, KSPPREONLY));
-    PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCSetType(pc, PCLU));
-    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-  }
-  PetscCall(KSPSetFromOptions(ksp));
+  PetscCall(SetupSolver(ksp));
   PetscCall(KSPSolve(ksp, f, u));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   PetscCall(KSPGetIterationNumber(ksp, &its));

@@ -74,7 +74,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsHasHelp(NULL, &s->help));
 
   PetscOptionsBegin(comm, NULL, "mortar2d: 2D frictionless contact of elastic bodies (Q4, mortar)", "");
-  PetscCall(PetscOptionsStringArray("-mesh", "gmsh .msh file: one holding every body, or two comma-separated files (one per body)", "", mesh, &nmesh, &set));
+  PetscCall(PetscOptionsStringArray("-mesh", "gmsh .msh file: one holding every body, or two comma-separated files (one per body); default: none, required", "", mesh, &nmesh, &set));
   s->nmesh = set ? nmesh : 0;
   PetscCheck(nmesh <= 2, comm, PETSC_ERR_USER_INPUT, "option -mesh: at most two files, got %" PetscInt_FMT, nmesh);
   for (PetscInt i = 0; i < s->nmesh; i++) {
@@ -94,9 +94,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else if (!strcmp(plane, "stress")) s->plane = PLANE_STRESS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -plane: unknown value '%s' (expected strain or stress)", plane);
 
-  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated", &dir, &ndir));
-  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P on a physical curve (P > 0 pushes into the body), comma separated", &pres, &npres));
-  PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated", &trac, &ntrac));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P on a physical curve (P > 0 pushes into the body), comma separated; default: none", &pres, &npres));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
   for (PetscInt i = 0; i < ndir; i++) {
     char        *f[4], buf[256];
     int          nf;

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# The whole test suite from nothing: set-up (packages, build, meshes), then ctest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/setup.sh
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+ctest --test-dir build --output-on-failure -j2 "$@"
