@@ -19,6 +19,16 @@ typedef enum {
   EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
 } ExactKind;
 
+typedef enum {
+  CONTACT_MORTAR,
+  CONTACT_NTS
+} ContactMethod;
+
+typedef enum {
+  KKT_AIJ,
+  KKT_NEST
+} KKTMatType;
+
 typedef struct {
   char      name[M2D_NAME_LEN]; /* physical surface name */
   PetscReal E, nu;
@@ -49,6 +59,12 @@ typedef struct {
   EdgeLoad    load[M2D_MAX_BC];
   ExactKind   exact;
   PetscReal   mms_amplitude;
+  /* contact pair (empty: no contact) */
+  char          contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
+  ContactMethod method;
+  PetscReal     reach;       /* search distance; <= 0: automatic */
+  KKTMatType    kkt_mat;
+  PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
   char        outdir[PETSC_MAX_PATH_LEN];
   char        outname[M2D_NAME_LEN];
   char        summary[PETSC_MAX_PATH_LEN];

@@ -2,9 +2,11 @@
  *
  *   mortar2d -options_file options/block.opts [-output_dir out] [-summary out/summary.json]
  *
- * Phases (each a -log_view stage): Mesh (read, validate, distribute), Assembly
- * (Q4 stiffness, loads, Dirichlet rows), Solve (KSP from the options database,
- * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, summary). */
+ * Phases (each a -log_view stage): Mesh (read, validate, distribute), Contact
+ * (surfaces, search, mortar segments or NTS rows), Assembly (Q4 stiffness,
+ * loads, Dirichlet rows, KKT system), Solve (KSP from the options database,
+ * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, CSV, summary). */
+#include "contact.h"
 #include "elasticity.h"
 #include "mesh.h"
 #include "output.h"
@@ -17,12 +19,13 @@ static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies 
 
 typedef enum {
   ST_MESH,
+  ST_CONTACT,
   ST_ASSEMBLY,
   ST_SOLVE,
   ST_OUTPUT,
   ST_COUNT
 } StageId;
-static const char *stage_name[ST_COUNT] = {"mesh", "assembly", "solve", "output"};
+static const char *stage_name[ST_COUNT] = {"mesh", "contact", "assembly", "solve", "output"};
 
 static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
 {
@@ -90,6 +93,10 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscMPIInt   size;
   Summary      *sum;
   KSPConvergedReason reason;
+  PetscBool     has_contact;
+  Contact       contact;
+  KKT           kkt;
+  Vec           lam = NULL, cfield = NULL;
 
   PetscFunctionBeginUser;
   tstart = M2dWallTime();
@@ -123,6 +130,13 @@ static PetscErrorCode Run(MPI_Comm comm)
   t[ST_MESH] = M2dWallTime() - t[ST_MESH];
   PetscCall(PetscLogStagePop());
 
+  has_contact = (PetscBool)(s.contact_nm[0] != 0);
+  PetscCall(PetscLogStagePush(stage[ST_CONTACT]));
+  t[ST_CONTACT] = M2dWallTime();
+  if (has_contact) PetscCall(ContactSetup(&m, &s, &contact));
+  t[ST_CONTACT] = M2dWallTime() - t[ST_CONTACT];
+  PetscCall(PetscLogStagePop());
+
   PetscCall(PetscLogStagePush(stage[ST_ASSEMBLY]));
   t[ST_ASSEMBLY] = M2dWallTime();
   PetscCall(DMCreateMatrix(m.dm, &K));
@@ -133,6 +147,10 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(ElasticityAssemble(&m, &s, K, f));
   PetscCall(ElasticityDirichletRows(&m, &s, &ndir, &drows, &dvals));
   PetscCall(ElasticityApplyDirichlet(K, f, u, ndir, drows, dvals));
+  if (has_contact) {
+    PetscCall(KKTCreate(&s, &contact.R, K, f, u, ndir, drows, &kkt));
+    PetscCall(VecDuplicate(kkt.r, &lam));
+  }
   PetscCall(PetscFree2(drows, dvals));
   t[ST_ASSEMBLY] = M2dWallTime() - t[ST_ASSEMBLY];
   PetscCall(PetscLogStagePop());
@@ -140,12 +158,23 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(PetscLogStagePush(stage[ST_SOLVE]));
   t[ST_SOLVE] = M2dWallTime();
   PetscCall(KSPCreate(comm, &ksp));
-  PetscCall(KSPSetOperators(ksp, K, K));
+  if (has_contact) PetscCall(KSPSetOperators(ksp, kkt.A, kkt.A));
+  else PetscCall(KSPSetOperators(ksp, K, K));
   PetscCall(SetupSolver(ksp));
-  PetscCall(KSPSolve(ksp, f, u));
+  if (has_contact) {
+    PetscCall(KKTSetupKSP(&kkt, ksp));
+    PetscCall(KKTSolve(&kkt, ksp, u, lam));
+  } else PetscCall(KSPSolve(ksp, f, u));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   PetscCall(KSPGetIterationNumber(ksp, &its));
-  PetscCheck(reason > 0, comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
+  if (reason <= 0) {
+    PetscBool fs;
+    PC        pc;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+    PetscCheck(!(fs && has_contact && s.kkt_augment == 0), comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed (%s): the fieldsplit K block cannot be factored when a body is held only by contact; add -kkt_augment 1 or use the monolithic solver (options/kkt_mumps.opts)", KSPConvergedReasons[reason]);
+    SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
+  }
   t[ST_SOLVE] = M2dWallTime() - t[ST_SOLVE];
   PetscCall(PetscLogStagePop());
 
@@ -169,6 +198,22 @@ static PetscErrorCode Run(MPI_Comm comm)
   SummaryInt(sum, "", "bodies", s.nbody);
   SummaryString(sum, "", "plane", s.plane == PLANE_STRAIN ? "strain" : "stress");
   SummaryInt(sum, "", "ksp_iterations", its);
+  if (has_contact) {
+    char csv[PETSC_MAX_PATH_LEN];
+    PetscCall(ContactResults(&contact, &kkt, u, lam));
+    SummaryString(sum, "", "method", s.method == CONTACT_MORTAR ? "mortar" : "nts");
+    SummaryInt(sum, "", "contact_nodes", contact.R.n);
+    SummaryReal(sum, "", "contact_force", contact.force_n);
+    SummaryReal(sum, "", "contact_force_x", contact.force[0]);
+    SummaryReal(sum, "", "contact_force_y", contact.force[1]);
+    PetscCall(PetscPrintf(comm, "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (double)contact.force_n, (double)contact.force[0], (double)contact.force[1]));
+    PetscCall(VecDuplicate(u, &cfield));
+    PetscCall(ContactFillField(&contact, cfield));
+    if (s.write_vtu || s.write_hdf5) {
+      PetscCall(PetscSNPrintf(csv, sizeof(csv), "%s/%s_contact.csv", s.outdir, s.outname));
+      PetscCall(ContactWriteCSV(comm, &contact, csv));
+    }
+  }
   if (s.exact == EXACT_UNIFORM) {
     PetscReal p = s.load[0].p, e[3] = {0, 0, 0};
     for (PetscInt c = 0; c < nlc; c++) {
@@ -193,6 +238,10 @@ static PetscErrorCode Run(MPI_Comm comm)
     FieldSet fs;
     PetscCall(PetscMemzero(&fs, sizeof(fs)));
     fs.point[fs.npoint++] = (PointField){"displacement", u, PETSC_TRUE, 0};
+    if (has_contact) {
+      fs.point[fs.npoint++] = (PointField){"contact_pressure", cfield, PETSC_FALSE, 0};
+      fs.point[fs.npoint++] = (PointField){"gap", cfield, PETSC_FALSE, 1};
+    }
     const char *cname[6]  = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
     for (int k = 0; k < 6; k++) fs.cell[fs.ncell++] = (CellField){cname[k], stress, 6, k};
     PetscCall(OutputWrite(&m, s.outdir, s.outname, s.write_vtu, s.write_hdf5, &fs));
@@ -204,9 +253,15 @@ static PetscErrorCode Run(MPI_Comm comm)
   for (int k = 0; k < ST_COUNT; k++) SummaryReal(sum, "time", stage_name[k], t[k]);
   SummaryReal(sum, "time", "total", t[ST_COUNT]);
   if (s.write_vtu || s.write_hdf5) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s.outdir, s.outname, s.write_hdf5 ? "h5,xmf" : "", s.write_hdf5 && s.write_vtu ? "," : "", s.write_vtu ? "vtu" : ""));
-  PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * m.nvert_global, t[0], t[1], t[2], t[3], t[4]));
+  PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, contact %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * m.nvert_global, t[0], t[1], t[2], t[3], t[4], t[5]));
   PetscCall(SummaryWrite(comm, s.summary, sum));
 
+  if (has_contact) {
+    PetscCall(ContactDestroy(&contact));
+    PetscCall(KKTDestroy(&kkt));
+  }
+  PetscCall(VecDestroy(&lam));
+  PetscCall(VecDestroy(&cfield));
   PetscCall(PetscFree(sum));
   PetscCall(PetscFree(stress));
   PetscCall(KSPDestroy(&ksp));

@@ -57,7 +57,7 @@ static PetscErrorCode FreeList(char **e, PetscInt n)
 
 PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
 {
-  char      plane[32] = "strain", exact[32] = "none";
+  char      plane[32] = "strain", exact[32] = "none", method[32] = "mortar", kktmat[32] = "aij";
   char     *mesh[3]   = {NULL, NULL, NULL};
   char     *bodies[M2D_MAX_BODIES + 1];
   char    **dir, **pres, **trac;
@@ -145,6 +145,20 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else if (!strcmp(exact, "mms")) s->exact = EXACT_MMS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -exact: unknown value '%s' (expected none, uniform or mms)", exact);
   PetscCall(PetscOptionsReal("-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", "", s->mms_amplitude, &s->mms_amplitude, NULL));
+  PetscCall(PetscOptionsString("-contact_nonmortar", "physical curve of the non-mortar contact surface (carries the multipliers); empty: no contact", "", s->contact_nm, s->contact_nm, sizeof(s->contact_nm), NULL));
+  PetscCall(PetscOptionsString("-contact_mortar", "physical curve of the mortar contact surface", "", s->contact_m, s->contact_m, sizeof(s->contact_m), NULL));
+  PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
+  PetscCall(PetscOptionsString("-contact_method", "contact discretisation: mortar|nts", "", method, method, sizeof(method), NULL));
+  if (!strcmp(method, "mortar")) s->method = CONTACT_MORTAR;
+  else if (!strcmp(method, "nts")) s->method = CONTACT_NTS;
+  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_method: unknown value '%s' (expected mortar or nts)", method);
+  PetscCall(PetscOptionsReal("-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", "", s->reach, &s->reach, NULL));
+  PetscCall(PetscOptionsString("-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", "", kktmat, kktmat, sizeof(kktmat), NULL));
+  if (!strcmp(kktmat, "aij")) s->kkt_mat = KKT_AIJ;
+  else if (!strcmp(kktmat, "nest")) s->kkt_mat = KKT_NEST;
+  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_mat: unknown value '%s' (expected aij or nest)", kktmat);
+  PetscCall(PetscOptionsReal("-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", "", s->kkt_augment, &s->kkt_augment, NULL));
+  PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
   PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
   PetscCall(PetscOptionsBool("-output_vtu", "write NAME.vtu", "", s->write_vtu, &s->write_vtu, NULL));

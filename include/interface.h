@@ -1,0 +1,32 @@
+/* interface.h - contact surfaces: the edges of a named boundary part, gathered
+ * on every rank (the interface is one dimension lower than the mesh, so this is
+ * cheap and keeps the segment search serial and simple).
+ *
+ * Each edge is oriented with its body on the left, so its outward unit normal
+ * is (t_y, -t_x) for the unit tangent t. Nodes are identified by the global dof
+ * of their u_x (u_y is the next dof). */
+#ifndef M2D_INTERFACE_H
+#define M2D_INTERFACE_H
+#include "mesh.h"
+
+typedef struct {
+  PetscInt   nnode, nedge;
+  PetscReal *x;       /* 2 per node */
+  PetscInt  *gdof;    /* global dof of u_x per node */
+  PetscInt  *edge;    /* 2 node indices per edge */
+  PetscReal *normal;  /* outward unit normal per edge (2 per edge) */
+  PetscReal *len;     /* edge lengths */
+  PetscInt  *n2e_ptr; /* node -> edges (CSR) */
+  PetscInt  *n2e;
+  PetscReal  lo[2], hi[2]; /* bounding box */
+} Surface;
+
+/* Build from plain lists (used by SurfaceGather and by the unit tests). Edges
+ * must already be oriented body-on-the-left. Copies the arrays. */
+PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], Surface *s);
+/* Gather the edges of physical curve `group` from every rank. */
+PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *option, Surface *s);
+PetscErrorCode SurfaceDestroy(Surface *s);
+/* average outward normal of the edges at node i */
+void SurfaceNodeNormal(const Surface *s, PetscInt i, PetscReal n[2]);
+#endif

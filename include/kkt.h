@@ -1,0 +1,36 @@
+/* kkt.h - the saddle-point system of elasticity with contact multipliers.
+ *
+ *   [ K  C^T ] [ u      ]   [ f  ]       C = -B (B: weighted-gap rows of mortar.h),
+ *   [ C  0   ] [ lambda ] = [ g0 ]       lambda = contact pressure (>= 0)
+ *
+ * i.e. K u = f + B^T lambda and B u + g~0 = 0 on the constrained rows.
+ * Dirichlet dofs: their columns of C are zeroed and their contribution moved
+ * to the right-hand side. -kkt_mat picks a MatNest (blocks kept apart, for
+ * PCFIELDSPLIT) or the monolithic AIJ converted from it (for MUMPS). With
+ * -kkt_augment w > 0 the (u,u) block becomes K + w s C^T C (and f + w s C^T g0),
+ * s = mean diag(K) / mean diag(C^T C): the same solution, but the block is
+ * invertible when a body is held only by contact. */
+#ifndef M2D_KKT_H
+#define M2D_KKT_H
+#include "mortar.h"
+#include "scene.h"
+#include <petscksp.h>
+
+typedef struct {
+  PetscInt  nlam;
+  Mat       C;     /* nlam x Nu, Dirichlet columns zeroed */
+  Vec       r;     /* right-hand side of the multiplier rows */
+  Mat       Kblk;  /* the (u,u) block (K, or its augmented copy) */
+  Mat       Ct, Z, nest, A; /* A: operator handed to the KSP (nest or aij) */
+  IS        isu, isl;       /* u and lambda in the global numbering of A */
+  Vec       b, x;
+  PetscReal gamma;          /* applied augmentation weight (scaled) */
+} KKT;
+
+PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt);
+/* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
+PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp);
+/* solve; u gets the displacement, lam (layout of C's rows) the multipliers */
+PetscErrorCode KKTSolve(KKT *kkt, KSP ksp, Vec u, Vec lam);
+PetscErrorCode KKTDestroy(KKT *kkt);
+#endif

@@ -1,0 +1,52 @@
+/* mortar.h - contact constraints between a non-mortar and a mortar surface.
+ *
+ * (Non-mortar is what some books call "slave", mortar "master".)
+ * Both discretisations produce ContactRows: one row per non-mortar node that
+ * carries a Lagrange multiplier (the contact pressure), holding the weighted
+ * gap g~_j = sum_dofs B_jd u_d + g~0_j, which must be >= 0.
+ *
+ * Mortar (seed report section 4, ARCHITECTURE.md): per non-mortar edge e, the
+ * mortar segments are the overlaps of e with the mortar edges, found by
+ * projecting the ends of one edge onto the other along the mortar normal n
+ * (seed eq. 6). On a segment, with N the linear shape functions,
+ *   D_ij += int N_i(zeta) N_j(zeta) da,   M_ik += int N_i(zeta) N_k(xi(zeta)) da
+ * (seed eqs. 12-15) by 2-point Gauss, exact for straight edges since xi is
+ * affine in zeta. Row j: D_jk n on non-mortar node k, -M_jl n on mortar node l.
+ *
+ * Node-to-segment (seed section 3): node s projects onto the closest mortar
+ * edge (xi), tributary length a_s: row a_s [n, -N_1(xi) n, -N_2(xi) n]. */
+#ifndef M2D_MORTAR_H
+#define M2D_MORTAR_H
+#include "interface.h"
+
+typedef struct {
+  PetscInt  nm_edge, m_edge;
+  PetscReal zeta[2]; /* segment on the non-mortar edge, zeta[0] < zeta[1] in [-1, 1] */
+  PetscReal xi[2];   /* the same points projected on the mortar edge */
+} Segment;
+
+typedef struct {
+  PetscInt nseg;
+  Segment *seg;
+} SegmentSet;
+
+typedef struct {
+  PetscInt   n;      /* multipliers */
+  PetscInt  *node;   /* non-mortar surface node of each multiplier */
+  PetscInt  *ptr;    /* CSR row pointers into col/val */
+  PetscInt  *col;    /* global dof */
+  PetscReal *val;
+  PetscReal *g0;     /* weighted gap of the reference configuration */
+  PetscReal *w;      /* weight: int N_j da (mortar) or a_j (NTS): pressure x w = force */
+} ContactRows;
+
+/* candidate pairs by bounding boxes (enlarged by reach), facing normals, then
+ * the overlap of each pair; segments with a gap beyond +-reach are dropped */
+PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscReal reach, SegmentSet *S);
+PetscErrorCode SegmentSetDestroy(SegmentSet *S);
+/* D (2x2, non-mortar edge nodes i,j) and M (2x2, i and mortar edge nodes k) of one segment */
+void           MortarSegmentDM(const Surface *nm, const Segment *s, PetscReal D[4], PetscReal M[4]);
+PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, ContactRows *R);
+PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, ContactRows *R);
+PetscErrorCode ContactRowsDestroy(ContactRows *R);
+#endif

@@ -1,0 +1,157 @@
+/* contact.c - set up the contact pair and report the interface (see contact.h). */
+#include "contact.h"
+#include "util.h"
+
+PetscErrorCode ContactSetup(const Mesh *m, const Scene *s, Contact *c)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(c, sizeof(*c)));
+  PetscCall(SurfaceGather(m, s->contact_nm, "-contact_nonmortar", &c->nm));
+  PetscCall(SurfaceGather(m, s->contact_m, "-contact_mortar", &c->m));
+  c->reach = s->reach;
+  if (c->reach <= 0) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  if (s->method == CONTACT_MORTAR) {
+    PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
+    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, &c->R));
+  } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
+  PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)c->reach);
+  PetscCall(PetscPrintf(comm, "contact: %s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == CONTACT_MORTAR ? "mortar" : "node-to-segment", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam)
+{
+  Vec                gw, all_l, all_g;
+  VecScatter         sc;
+  const PetscScalar *la, *ga;
+
+  PetscFunctionBeginUser;
+  /* weighted gap g~ = r - C u (r carries g~0 and the Dirichlet part) */
+  PetscCall(VecDuplicate(kkt->r, &gw));
+  PetscCall(MatMult(kkt->C, u, gw));
+  PetscCall(VecAYPX(gw, -1.0, kkt->r));
+  PetscCall(VecScatterCreateToAll(lam, &sc, &all_l));
+  PetscCall(VecDuplicate(all_l, &all_g));
+  PetscCall(VecScatterBegin(sc, lam, all_l, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, lam, all_l, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscFree2(c->pressure, c->gap));
+  PetscCall(PetscMalloc2(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap));
+  PetscCall(VecGetArrayRead(all_l, &la));
+  PetscCall(VecGetArrayRead(all_g, &ga));
+  c->force[0] = c->force[1] = c->force_n = 0;
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    c->pressure[j] = PetscRealPart(la[j]);
+    c->gap[j]      = PetscRealPart(ga[j]) / c->R.w[j];
+    c->force_n += c->pressure[j] * c->R.w[j];
+  }
+  /* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
+  for (PetscInt j = 0; j < c->R.n; j++)
+    for (PetscInt k = c->R.ptr[j]; k < c->R.ptr[j + 1]; k++) {
+      PetscInt col = c->R.col[k], lo = 0, hi = c->nm.nnode - 1, d = col % 2 ? 1 : 0, base = col - d;
+      while (lo <= hi) { /* c->nm.gdof is sorted */
+        PetscInt mid = (lo + hi) / 2;
+        if (c->nm.gdof[mid] == base) {
+          c->force[d] += c->pressure[j] * c->R.val[k];
+          break;
+        }
+        if (c->nm.gdof[mid] < base) lo = mid + 1;
+        else hi = mid - 1;
+      }
+    }
+  PetscCall(VecRestoreArrayRead(all_l, &la));
+  PetscCall(VecRestoreArrayRead(all_g, &ga));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(VecDestroy(&all_l));
+  PetscCall(VecDestroy(&all_g));
+  PetscCall(VecDestroy(&gw));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactFillField(const Contact *c, Vec field)
+{
+  PetscMPIInt rank;
+  PetscInt    lo, hi;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
+  PetscCall(VecGetOwnershipRange(field, &lo, &hi));
+  { /* pressure 0 and gap NaN everywhere, then the interface values */
+    PetscScalar *a;
+    PetscCall(VecGetArray(field, &a));
+    for (PetscInt i = 0; i < hi - lo; i += 2) {
+      a[i]     = 0;
+      a[i + 1] = NAN;
+    }
+    PetscCall(VecRestoreArray(field, &a));
+  }
+  if (rank == 0)
+    for (PetscInt j = 0; j < c->R.n; j++) {
+      PetscInt g = c->nm.gdof[c->R.node[j]];
+      PetscCall(VecSetValue(field, g, c->pressure[j], INSERT_VALUES));
+      PetscCall(VecSetValue(field, g + 1, c->gap[j], INSERT_VALUES));
+    }
+  PetscCall(VecAssemblyBegin(field));
+  PetscCall(VecAssemblyEnd(field));
+  PetscFunctionReturn(0);
+}
+
+typedef struct {
+  PetscReal x, y;
+  PetscInt  j;
+} XYIdx;
+
+static int CmpXY(const void *a, const void *b)
+{
+  const XYIdx *p = (const XYIdx *)a, *q = (const XYIdx *)b;
+  if (p->x != q->x) return p->x < q->x ? -1 : 1;
+  return (p->y > q->y) - (p->y < q->y);
+}
+
+PetscErrorCode ContactWriteCSV(MPI_Comm comm, const Contact *c, const char *path)
+{
+  PetscMPIInt    rank;
+  PetscErrorCode ierr = 0;
+  char           err[1024] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    M2dFile f;
+    XYIdx  *o;
+    PetscCall(PetscMalloc1(c->R.n + 1, &o));
+    for (PetscInt j = 0; j < c->R.n; j++) {
+      o[j].x = c->nm.x[2 * c->R.node[j]];
+      o[j].y = c->nm.x[2 * c->R.node[j] + 1];
+      o[j].j = j;
+    }
+    qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpXY);
+    ierr = M2dFileOpen(path, &f);
+    if (!ierr) {
+      fprintf(f.fp, "x,y,gap,pressure,weight\n");
+      for (PetscInt k = 0; k < c->R.n; k++) {
+        PetscInt j = o[k].j;
+        fprintf(f.fp, "%.17g,%.17g,%.17g,%.17g,%.17g\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j]);
+      }
+      ierr = M2dFileCommit(&f);
+    }
+    if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
+    PetscCall(PetscFree(o));
+  }
+  PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactDestroy(Contact *c)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SurfaceDestroy(&c->nm));
+  PetscCall(SurfaceDestroy(&c->m));
+  PetscCall(SegmentSetDestroy(&c->seg));
+  PetscCall(ContactRowsDestroy(&c->R));
+  PetscCall(PetscFree2(c->pressure, c->gap));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,175 @@
+/* kkt.c - assemble and solve the contact saddle-point system (see kkt.h). */
+#include "kkt.h"
+
+static PetscErrorCode BuildC(MPI_Comm comm, const ContactRows *R, Mat K, Mat *C)
+{
+  PetscInt nu, Nu, lo, hi, clo, chi, *dnz, *onz;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetLocalSize(K, &nu, NULL));
+  PetscCall(MatGetSize(K, &Nu, NULL));
+  PetscCall(MatGetOwnershipRangeColumn(K, &clo, &chi));
+  PetscCall(MatCreate(comm, C));
+  PetscCall(MatSetSizes(*C, PETSC_DECIDE, nu, R->n, Nu));
+  PetscCall(MatSetType(*C, MATAIJ));
+  PetscCall(MatSetUp(*C));
+  PetscCall(MatGetOwnershipRange(*C, &lo, &hi));
+  PetscCall(PetscCalloc2(hi - lo + 1, &dnz, hi - lo + 1, &onz));
+  for (PetscInt j = lo; j < hi; j++)
+    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
+      if (R->col[k] >= clo && R->col[k] < chi) dnz[j - lo]++;
+      else onz[j - lo]++;
+    }
+  PetscCall(MatSeqAIJSetPreallocation(*C, 0, dnz));
+  PetscCall(MatMPIAIJSetPreallocation(*C, 0, dnz, 0, onz));
+  PetscCall(PetscFree2(dnz, onz));
+  for (PetscInt j = lo; j < hi; j++) {
+    PetscInt   n = R->ptr[j + 1] - R->ptr[j];
+    PetscReal *v;
+    PetscCall(PetscMalloc1(n + 1, &v));
+    for (PetscInt k = 0; k < n; k++) v[k] = -R->val[R->ptr[j] + k]; /* C = -B */
+    PetscCall(MatSetValues(*C, 1, &j, n, &R->col[R->ptr[j]], v, INSERT_VALUES));
+    PetscCall(PetscFree(v));
+  }
+  PetscCall(MatAssemblyBegin(*C, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*C, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)K);
+  Vec      g0, mask, fk;
+  PetscInt lo, hi, nl, nu, N, Nl;
+  IS       isg[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
+  kkt->nlam = R->n;
+  PetscCall(BuildC(comm, R, K, &kkt->C));
+  PetscCall(MatCreateVecs(kkt->C, NULL, &g0));
+  PetscCall(VecDuplicate(g0, &kkt->r));
+  PetscCall(VecGetOwnershipRange(g0, &lo, &hi));
+  for (PetscInt j = lo; j < hi; j++) PetscCall(VecSetValue(g0, j, R->g0[j], INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(g0));
+  PetscCall(VecAssemblyEnd(g0));
+  /* move the Dirichlet columns to the right-hand side, then zero them */
+  PetscCall(MatMult(kkt->C, ubc, kkt->r));
+  PetscCall(VecAYPX(kkt->r, -1.0, g0));
+  PetscCall(VecDestroy(&g0));
+  PetscCall(VecDuplicate(f, &mask));
+  PetscCall(VecSet(mask, 1.0));
+  for (PetscInt i = 0; i < ndir; i++) PetscCall(VecSetValue(mask, drows[i], 0.0, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(mask));
+  PetscCall(VecAssemblyEnd(mask));
+  PetscCall(MatDiagonalScale(kkt->C, NULL, mask));
+  PetscCall(VecDestroy(&mask));
+  PetscCall(MatTranspose(kkt->C, MAT_INITIAL_MATRIX, &kkt->Ct));
+
+  /* the (u,u) block and its right-hand side */
+  PetscCall(VecDuplicate(f, &fk));
+  PetscCall(VecCopy(f, fk));
+  if (s->kkt_augment > 0) {
+    Mat       CtC;
+    Vec       dk, dc;
+    PetscReal sk, sc;
+    PetscInt  n;
+    PetscCall(MatTransposeMatMult(kkt->C, kkt->C, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &CtC));
+    PetscCall(MatCreateVecs(K, &dk, NULL));
+    PetscCall(VecDuplicate(dk, &dc));
+    PetscCall(MatGetDiagonal(K, dk));
+    PetscCall(MatGetDiagonal(CtC, dc));
+    PetscCall(VecNorm(dk, NORM_1, &sk));
+    PetscCall(VecNorm(dc, NORM_1, &sc));
+    PetscCall(VecGetSize(dk, &n));
+    sk /= n;
+    sc /= PetscMax(1, 2 * kkt->nlam);
+    kkt->gamma = sc > 0 ? s->kkt_augment * sk / sc : 0;
+    PetscCall(MatDuplicate(K, MAT_COPY_VALUES, &kkt->Kblk));
+    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, CtC, DIFFERENT_NONZERO_PATTERN));
+    PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
+    PetscCall(VecAXPY(fk, kkt->gamma, dk));
+    PetscCall(VecDestroy(&dk));
+    PetscCall(VecDestroy(&dc));
+    PetscCall(MatDestroy(&CtC));
+  } else {
+    PetscCall(PetscObjectReference((PetscObject)K));
+    kkt->Kblk = K;
+  }
+  /* explicit zero (lambda, lambda) block: keeps the structure symmetric for MUMPS */
+  PetscCall(VecGetLocalSize(kkt->r, &nl));
+  PetscCall(VecGetSize(kkt->r, &Nl));
+  PetscCall(MatCreateAIJ(comm, nl, nl, Nl, Nl, 1, NULL, 0, NULL, &kkt->Z));
+  PetscCall(VecGetOwnershipRange(kkt->r, &lo, &hi));
+  for (PetscInt j = lo; j < hi; j++) PetscCall(MatSetValue(kkt->Z, j, j, 0.0, INSERT_VALUES));
+  PetscCall(MatAssemblyBegin(kkt->Z, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(kkt->Z, MAT_FINAL_ASSEMBLY));
+  {
+    Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->C, kkt->Z};
+    PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
+  }
+  if (s->kkt_mat == KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
+  else {
+    PetscCall(PetscObjectReference((PetscObject)kkt->nest));
+    kkt->A = kkt->nest;
+  }
+  PetscCall(MatNestGetISs(kkt->nest, isg, NULL));
+  PetscCall(PetscObjectReference((PetscObject)isg[0]));
+  PetscCall(PetscObjectReference((PetscObject)isg[1]));
+  kkt->isu = isg[0];
+  kkt->isl = isg[1];
+  PetscCall(VecGetLocalSize(f, &nu));
+  PetscCall(VecGetSize(f, &N));
+  PetscCall(VecCreateMPI(comm, nu + nl, N + Nl, &kkt->b));
+  PetscCall(VecDuplicate(kkt->b, &kkt->x));
+  PetscCall(VecISCopy(kkt->b, kkt->isu, SCATTER_FORWARD, fk));
+  PetscCall(VecISCopy(kkt->b, kkt->isl, SCATTER_FORWARD, kkt->r));
+  PetscCall(VecDestroy(&fk));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp)
+{
+  PC        pc;
+  PetscBool fs;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+  if (kkt->A == kkt->nest && !fs) {
+    PetscBool factor;
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, PCILU, PCICC, ""));
+    PetscCheck(!factor, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "option -kkt_mat nest: a MatNest cannot be factored directly; use -kkt_mat aij for LU, or PCFIELDSPLIT (options/kkt_fieldsplit.opts)");
+  }
+  if (fs) {
+    PetscCall(PCFieldSplitSetIS(pc, "u", kkt->isu));
+    PetscCall(PCFieldSplitSetIS(pc, "lambda", kkt->isl));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTSolve(KKT *kkt, KSP ksp, Vec u, Vec lam)
+{
+  PetscFunctionBeginUser;
+  PetscCall(KSPSolve(ksp, kkt->b, kkt->x));
+  PetscCall(VecISCopy(kkt->x, kkt->isu, SCATTER_REVERSE, u));
+  PetscCall(VecISCopy(kkt->x, kkt->isl, SCATTER_REVERSE, lam));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTDestroy(KKT *kkt)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatDestroy(&kkt->C));
+  PetscCall(MatDestroy(&kkt->Ct));
+  PetscCall(MatDestroy(&kkt->Z));
+  PetscCall(MatDestroy(&kkt->Kblk));
+  PetscCall(MatDestroy(&kkt->nest));
+  PetscCall(MatDestroy(&kkt->A));
+  PetscCall(ISDestroy(&kkt->isu));
+  PetscCall(ISDestroy(&kkt->isl));
+  PetscCall(VecDestroy(&kkt->r));
+  PetscCall(VecDestroy(&kkt->b));
+  PetscCall(VecDestroy(&kkt->x));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,282 @@
+/* mortar.c - mortar segments, D and M, and the node-to-segment rows (see mortar.h). */
+#include "mortar.h"
+
+static const PetscReal gp[2] = {-0.57735026918962576451, 0.57735026918962576451};
+
+/* parameter in [-1, 1] of the projection of point p along the normal of mortar edge me */
+static PetscReal MortarParam(const Surface *m, PetscInt me, const PetscReal p[2])
+{
+  const PetscReal *a = &m->x[2 * m->edge[2 * me]], *b = &m->x[2 * m->edge[2 * me + 1]];
+  PetscReal        t[2] = {b[0] - a[0], b[1] - a[1]};
+  return 2 * ((p[0] - a[0]) * t[0] + (p[1] - a[1]) * t[1]) / (t[0] * t[0] + t[1] * t[1]) - 1;
+}
+
+static void EdgePoint(const Surface *s, PetscInt e, PetscReal z, PetscReal p[2])
+{
+  const PetscReal *a = &s->x[2 * s->edge[2 * e]], *b = &s->x[2 * s->edge[2 * e + 1]];
+  p[0]               = 0.5 * (1 - z) * a[0] + 0.5 * (1 + z) * b[0];
+  p[1]               = 0.5 * (1 - z) * a[1] + 0.5 * (1 + z) * b[1];
+}
+
+/* signed gap along the mortar normal between the non-mortar point at zeta and its projection */
+static PetscReal SegmentGap(const Surface *nm, const Surface *m, PetscInt ne, PetscInt me, PetscReal zeta)
+{
+  PetscReal p[2], q[2];
+  EdgePoint(nm, ne, zeta, p);
+  EdgePoint(m, me, MortarParam(m, me, p), q);
+  return (p[0] - q[0]) * m->normal[2 * me] + (p[1] - q[1]) * m->normal[2 * me + 1];
+}
+
+PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscReal reach, SegmentSet *S)
+{
+  PetscInt cap = 4 * (nm->nedge + m->nedge) + 16;
+
+  PetscFunctionBeginUser;
+  S->nseg = 0;
+  PetscCall(PetscMalloc1(cap, &S->seg));
+  for (PetscInt e = 0; e < nm->nedge; e++) {
+    const PetscReal *a = &nm->x[2 * nm->edge[2 * e]], *b = &nm->x[2 * nm->edge[2 * e + 1]];
+    PetscReal        elo[2], ehi[2];
+    for (int d = 0; d < 2; d++) {
+      elo[d] = PetscMin(a[d], b[d]) - reach;
+      ehi[d] = PetscMax(a[d], b[d]) + reach;
+    }
+    for (PetscInt f = 0; f < m->nedge; f++) {
+      const PetscReal *c = &m->x[2 * m->edge[2 * f]], *d = &m->x[2 * m->edge[2 * f + 1]];
+      PetscReal        xa, xb, lo, hi, za, zb, g0, g1;
+      Segment         *s;
+      /* bounding boxes, then facing normals */
+      if (PetscMax(c[0], d[0]) < elo[0] || PetscMin(c[0], d[0]) > ehi[0] || PetscMax(c[1], d[1]) < elo[1] || PetscMin(c[1], d[1]) > ehi[1]) continue;
+      if (nm->normal[2 * e] * m->normal[2 * f] + nm->normal[2 * e + 1] * m->normal[2 * f + 1] >= 0) continue;
+      xa = MortarParam(m, f, a);
+      xb = MortarParam(m, f, b);
+      if (PetscAbsReal(xb - xa) < 1e-12) continue; /* edges perpendicular */
+      lo = PetscMax(-1.0, PetscMin(xa, xb));
+      hi = PetscMin(1.0, PetscMax(xa, xb));
+      if (!(hi > lo)) continue; /* no overlap (a shared end point is a zero-length segment: dropped) */
+      /* the overlap in the non-mortar parameter */
+      za = -1 + 2 * (lo - xa) / (xb - xa);
+      zb = -1 + 2 * (hi - xa) / (xb - xa);
+      if (za > zb) {
+        PetscReal t = za;
+        za          = zb;
+        zb          = t;
+      }
+      za = PetscMax(-1.0, za);
+      zb = PetscMin(1.0, zb);
+      if (!(zb > za)) continue;
+      g0 = SegmentGap(nm, m, e, f, za);
+      g1 = SegmentGap(nm, m, e, f, zb);
+      if (PetscMin(g0, g1) > reach || PetscMax(g0, g1) < -reach) continue;
+      if (S->nseg == cap) {
+        Segment *t;
+        cap *= 2;
+        PetscCall(PetscMalloc1(cap, &t));
+        PetscCall(PetscArraycpy(t, S->seg, S->nseg));
+        PetscCall(PetscFree(S->seg));
+        S->seg = t;
+      }
+      s          = &S->seg[S->nseg++];
+      s->nm_edge = e;
+      s->m_edge  = f;
+      s->zeta[0] = za;
+      s->zeta[1] = zb;
+      {
+        PetscReal p[2];
+        EdgePoint(nm, e, za, p);
+        s->xi[0] = MortarParam(m, f, p);
+        EdgePoint(nm, e, zb, p);
+        s->xi[1] = MortarParam(m, f, p);
+      }
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SegmentSetDestroy(SegmentSet *S)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(S->seg));
+  S->nseg = 0;
+  PetscFunctionReturn(0);
+}
+
+void MortarSegmentDM(const Surface *nm, const Segment *s, PetscReal D[4], PetscReal M[4])
+{
+  const PetscReal L = nm->len[s->nm_edge], h = 0.5 * (s->zeta[1] - s->zeta[0]);
+  for (int k = 0; k < 4; k++) D[k] = M[k] = 0;
+  for (int g = 0; g < 2; g++) {
+    PetscReal z  = 0.5 * (s->zeta[0] + s->zeta[1]) + h * gp[g];
+    PetscReal xi = s->xi[0] + (s->xi[1] - s->xi[0]) * (z - s->zeta[0]) / (s->zeta[1] - s->zeta[0]);
+    PetscReal w  = h * 0.5 * L; /* Gauss weight 1, d zeta -> da = L/2 d zeta */
+    PetscReal N[2] = {0.5 * (1 - z), 0.5 * (1 + z)}, Nm[2] = {0.5 * (1 - xi), 0.5 * (1 + xi)};
+    for (int i = 0; i < 2; i++)
+      for (int j = 0; j < 2; j++) {
+        D[2 * i + j] += w * N[i] * N[j];
+        M[2 * i + j] += w * N[i] * Nm[j];
+      }
+  }
+}
+
+/* ---- row building: a small accumulator per row ---- */
+typedef struct {
+  PetscInt   n, cap;
+  PetscInt  *col;
+  PetscReal *val;
+} RowAcc;
+
+static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < r->n; k++)
+    if (r->col[k] == col) {
+      r->val[k] += v;
+      PetscFunctionReturn(0);
+    }
+  if (r->n == r->cap) {
+    PetscInt  *c;
+    PetscReal *v2;
+    r->cap = r->cap ? 2 * r->cap : 8;
+    PetscCall(PetscMalloc2(r->cap, &c, r->cap, &v2));
+    PetscCall(PetscArraycpy(c, r->col, r->n));
+    PetscCall(PetscArraycpy(v2, r->val, r->n));
+    PetscCall(PetscFree2(r->col, r->val));
+    r->col = c;
+    r->val = v2;
+  }
+  r->col[r->n]   = col;
+  r->val[r->n++] = v;
+  PetscFunctionReturn(0);
+}
+
+/* add coefficient c times the normal n at node i of surface s */
+static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const Surface *s, PetscInt i, PetscReal c, const PetscReal n[2])
+{
+  PetscFunctionBeginUser;
+  PetscCall(RowAdd(r, s->gdof[i], c * n[0]));
+  PetscCall(RowAdd(r, s->gdof[i] + 1, c * n[1]));
+  *g0 += c * (n[0] * s->x[2 * i] + n[1] * s->x[2 * i + 1]);
+  PetscFunctionReturn(0);
+}
+
+/* compress the accumulators of the kept nodes into R */
+static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g0, const PetscReal *w, const PetscBool *keep, ContactRows *R)
+{
+  PetscInt nnz = 0, k = 0;
+
+  PetscFunctionBeginUser;
+  R->n = 0;
+  for (PetscInt i = 0; i < nnode; i++)
+    if (keep[i]) {
+      R->n++;
+      nnz += acc[i].n;
+    }
+  PetscCall(PetscMalloc4(R->n + 1, &R->node, R->n + 1, &R->ptr, R->n + 1, &R->g0, R->n + 1, &R->w));
+  PetscCall(PetscMalloc2(nnz + 1, &R->col, nnz + 1, &R->val));
+  R->ptr[0] = 0;
+  for (PetscInt i = 0; i < nnode; i++) {
+    if (keep[i]) {
+      R->node[k] = i;
+      R->g0[k]   = g0[i];
+      R->w[k]    = w[i];
+      for (PetscInt j = 0; j < acc[i].n; j++) {
+        R->col[R->ptr[k] + j] = acc[i].col[j];
+        R->val[R->ptr[k] + j] = acc[i].val[j];
+      }
+      R->ptr[k + 1] = R->ptr[k] + acc[i].n;
+      k++;
+    }
+    PetscCall(PetscFree2(acc[i].col, acc[i].val));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, ContactRows *R)
+{
+  RowAcc    *acc;
+  PetscReal *g0, *w;
+  PetscBool *keep;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(nm->nnode + 1, &acc));
+  PetscCall(PetscCalloc3(nm->nnode + 1, &g0, nm->nnode + 1, &w, nm->nnode + 1, &keep));
+  for (PetscInt k = 0; k < S->nseg; k++) {
+    const Segment   *s = &S->seg[k];
+    const PetscReal *n = &m->normal[2 * s->m_edge];
+    const PetscInt  *en = &nm->edge[2 * s->nm_edge], *em = &m->edge[2 * s->m_edge];
+    PetscReal        D[4], M[4];
+    MortarSegmentDM(nm, s, D, M);
+    for (int i = 0; i < 2; i++) {
+      for (int j = 0; j < 2; j++) {
+        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], nm, en[j], D[2 * i + j], n));
+        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], m, em[j], -M[2 * i + j], n));
+      }
+      w[en[i]] += D[2 * i] + D[2 * i + 1];
+    }
+  }
+  /* a node gets a multiplier if the mortar surface covers a non-negligible part of its support */
+  for (PetscInt i = 0; i < nm->nnode; i++) {
+    PetscReal support = 0;
+    for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) support += 0.5 * nm->len[nm->n2e[k]];
+    keep[i] = (PetscBool)(w[i] > 1e-10 * support);
+  }
+  PetscCall(RowsFinish(nm->nnode, acc, g0, w, keep, R));
+  PetscCall(PetscFree(acc));
+  PetscCall(PetscFree3(g0, w, keep));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, ContactRows *R)
+{
+  RowAcc    *acc;
+  PetscReal *g0, *w;
+  PetscBool *keep;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(nm->nnode + 1, &acc));
+  PetscCall(PetscCalloc3(nm->nnode + 1, &g0, nm->nnode + 1, &w, nm->nnode + 1, &keep));
+  for (PetscInt i = 0; i < nm->nnode; i++) {
+    const PetscReal *p = &nm->x[2 * i];
+    PetscReal        nn[2], best = PETSC_MAX_REAL, bxi = 0, a = 0;
+    PetscInt         bf = -1;
+    SurfaceNodeNormal(nm, i, nn);
+    for (PetscInt f = 0; f < m->nedge; f++) {
+      PetscReal xi, q[2], g;
+      if (nn[0] * m->normal[2 * f] + nn[1] * m->normal[2 * f + 1] >= 0) continue;
+      xi = MortarParam(m, f, p);
+      if (xi < -1 - 1e-12 || xi > 1 + 1e-12) continue;
+      xi = PetscMax(-1.0, PetscMin(1.0, xi));
+      EdgePoint(m, f, xi, q);
+      g = (p[0] - q[0]) * m->normal[2 * f] + (p[1] - q[1]) * m->normal[2 * f + 1];
+      if (PetscAbsReal(g) <= reach && PetscAbsReal(g) < best) { /* closest point (seed eq. 6) */
+        best = PetscAbsReal(g);
+        bf   = f;
+        bxi  = xi;
+      }
+    }
+    if (bf < 0) continue;
+    for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) a += 0.5 * nm->len[nm->n2e[k]];
+    {
+      const PetscReal *n  = &m->normal[2 * bf];
+      const PetscInt  *em = &m->edge[2 * bf];
+      PetscCall(RowAddNode(&acc[i], &g0[i], nm, i, a, n));
+      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[0], -a * 0.5 * (1 - bxi), n));
+      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[1], -a * 0.5 * (1 + bxi), n));
+    }
+    w[i]    = a;
+    keep[i] = PETSC_TRUE;
+  }
+  PetscCall(RowsFinish(nm->nnode, acc, g0, w, keep, R));
+  PetscCall(PetscFree(acc));
+  PetscCall(PetscFree3(g0, w, keep));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactRowsDestroy(ContactRows *R)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(R->node, R->ptr, R->g0, R->w));
+  PetscCall(PetscFree2(R->col, R->val));
+  R->n = 0;
+  PetscFunctionReturn(0);
+}
