@@ -32,4 +32,14 @@ m2d_mesh(patch_uniform_upper patch_uniform.geo body 2)
 # S1: the seed report's patch test
 m2d_mesh(seed_patch seed_patch.geo)
 
+
+
+# S2 interface ratios (upper:lower elements along the interface)
+m2d_mesh(patch_3_10 patch_uniform.geo nu 3 nl 10)
+m2d_mesh(patch_10_31 patch_uniform.geo nu 10 nl 31)
+# S1 refinement study: r x the report's mesh, upper side kept non-matching
+m2d_mesh(seed_patch_2 seed_patch.geo nlx 20 nly 20 nux 11 nuy 10)
+m2d_mesh(seed_patch_4 seed_patch.geo nlx 40 nly 40 nux 21 nuy 20)
+m2d_mesh(seed_patch_8 seed_patch.geo nlx 80 nly 80 nux 41 nuy 40)
+m2d_mesh(seed_patch_16 seed_patch.geo nlx 160 nly 160 nux 81 nuy 80)
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})

@@ -13,6 +13,8 @@
 #include "scene.h"
 #include "util.h"
 #include <petscksp.h>
+#include <string.h>
+#include <sys/stat.h>
 
 static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies with Q4 elements and the mortar method.\n"
                            "Scenes are options files in options/; see README.md for every option.\n\n";
@@ -40,6 +42,23 @@ static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
     if (M2dMakeDirs(s->outdir, why, sizeof(why))) {
       snprintf(msg, sizeof(msg), "option -output_dir: %s", why);
       bad = 1;
+    }
+  }
+  if (rank == 0 && !bad && s->summary[0]) { /* the summary's directory must exist or be creatable */
+    char        dir[PETSC_MAX_PATH_LEN], why[900];
+    struct stat st;
+    char       *slash;
+    PetscCall(PetscStrncpy(dir, s->summary, sizeof(dir)));
+    slash = strrchr(dir, '/');
+    if (stat(s->summary, &st) == 0 && S_ISDIR(st.st_mode)) {
+      snprintf(msg, sizeof(msg), "option -summary: '%s' is a directory", s->summary);
+      bad = 1;
+    } else if (slash && slash != dir) {
+      *slash = 0;
+      if (M2dMakeDirs(dir, why, sizeof(why))) {
+        snprintf(msg, sizeof(msg), "option -summary: %s", why);
+        bad = 1;
+      }
     }
   }
   PetscCall(M2dCheckCollective(comm, bad ? PETSC_TRUE : PETSC_FALSE, msg));

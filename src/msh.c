@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct {
   const char *path;
@@ -531,7 +532,14 @@ int MshRead(const char *path, MshMesh *m, char *err, size_t errlen)
   p.path   = path;
   p.err    = err;
   p.errlen = errlen;
-  fp       = fopen(path, "rb");
+  {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+      snprintf(err, errlen, "mesh file '%s' is not a regular file (a directory?)", path);
+      return 1;
+    }
+  }
+  fp = fopen(path, "rb");
   if (!fp) {
     snprintf(err, errlen, "cannot open mesh file '%s': %s", path, strerror(errno));
     return 1;

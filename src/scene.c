@@ -9,6 +9,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* PetscOptionsReal with a check first, so that a bad value is reported with the
+ * option's name (PETSc's own message does not name it) and inf is refused */
+static PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char *prefix, const char *name, const char *help, PetscReal def, PetscReal *value)
+{
+  char      buf[256], *end;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, prefix, name, buf, sizeof(buf), &set));
+  if (set) {
+    double v = strtod(buf, &end);
+    PetscCheck(end != buf && *end == 0 && PetscIsNormalReal((PetscReal)v + 1.0), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%s%s: '%s' is not a finite number", prefix ? prefix : "", name + 1, buf);
+  }
+  PetscCall(PetscOptionsReal(name, help, "", def, value, NULL));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *text, PetscReal *v)
 {
   char *end;
@@ -88,6 +105,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   for (PetscInt i = 0; i < nbodies; i++) {
     PetscCall(PetscStrncpy(s->body[i].name, bodies[i], sizeof(s->body[i].name)));
     PetscCall(PetscFree(bodies[i]));
+    for (PetscInt j = 0; j < i; j++) PetscCheck(strcmp(s->body[i].name, s->body[j].name), comm, PETSC_ERR_USER_INPUT, "option -bodies: '%s' is listed twice", s->body[i].name);
   }
   PetscCall(PetscOptionsString("-plane", "plane strain or plane stress: strain|stress", "", plane, plane, sizeof(plane), NULL));
   if (!strcmp(plane, "strain")) s->plane = PLANE_STRAIN;
@@ -144,7 +162,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else if (!strcmp(exact, "uniform")) s->exact = EXACT_UNIFORM;
   else if (!strcmp(exact, "mms")) s->exact = EXACT_MMS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -exact: unknown value '%s' (expected none, uniform or mms)", exact);
-  PetscCall(PetscOptionsReal("-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", "", s->mms_amplitude, &s->mms_amplitude, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", s->mms_amplitude, &s->mms_amplitude));
   PetscCall(PetscOptionsString("-contact_nonmortar", "physical curve of the non-mortar contact surface (carries the multipliers); empty: no contact", "", s->contact_nm, s->contact_nm, sizeof(s->contact_nm), NULL));
   PetscCall(PetscOptionsString("-contact_mortar", "physical curve of the mortar contact surface", "", s->contact_m, s->contact_m, sizeof(s->contact_m), NULL));
   PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
@@ -152,12 +170,12 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   if (!strcmp(method, "mortar")) s->method = CONTACT_MORTAR;
   else if (!strcmp(method, "nts")) s->method = CONTACT_NTS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_method: unknown value '%s' (expected mortar or nts)", method);
-  PetscCall(PetscOptionsReal("-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", "", s->reach, &s->reach, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
   PetscCall(PetscOptionsString("-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", "", kktmat, kktmat, sizeof(kktmat), NULL));
   if (!strcmp(kktmat, "aij")) s->kkt_mat = KKT_AIJ;
   else if (!strcmp(kktmat, "nest")) s->kkt_mat = KKT_NEST;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_mat: unknown value '%s' (expected aij or nest)", kktmat);
-  PetscCall(PetscOptionsReal("-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", "", s->kkt_augment, &s->kkt_augment, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
   PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
@@ -181,9 +199,9 @@ PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s)
     s->body[b].nu = 0.3;
     PetscOptionsBegin(comm, prefix, title, "");
     PetscCall(PetscSNPrintf(help, sizeof(help), "Young's modulus of body %s (> 0)", s->body[b].name));
-    PetscCall(PetscOptionsReal("-E", help, "", s->body[b].E, &s->body[b].E, NULL));
+    PetscCall(OptionsReal(PetscOptionsObject, prefix, "-E", help, s->body[b].E, &s->body[b].E));
     PetscCall(PetscSNPrintf(help, sizeof(help), "Poisson ratio of body %s, in (-1, 0.5)", s->body[b].name));
-    PetscCall(PetscOptionsReal("-nu", help, "", s->body[b].nu, &s->body[b].nu, NULL));
+    PetscCall(OptionsReal(PetscOptionsObject, prefix, "-nu", help, s->body[b].nu, &s->body[b].nu));
     PetscOptionsEnd();
     PetscCheck(s->body[b].E > 0, comm, PETSC_ERR_USER_INPUT, "option -%sE: Young's modulus %g must be > 0", prefix, (double)s->body[b].E);
     PetscCheck(s->body[b].nu > -1 && s->body[b].nu < 0.5, comm, PETSC_ERR_USER_INPUT, "option -%snu: Poisson ratio %g must be in (-1, 0.5)", prefix, (double)s->body[b].nu);

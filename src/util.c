@@ -109,7 +109,7 @@ PetscErrorCode M2dFileOpen(const char *path, M2dFile *f)
   PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
   M2dTmpName(path, f->tmp, sizeof(f->tmp));
   f->fp = fopen(f->tmp, "wb");
-  PetscCheck(f->fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", f->tmp, strerror(errno));
+  PetscCheck(f->fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", f->final, strerror(errno));
   PetscFunctionReturn(0);
 }
 
@@ -128,7 +128,7 @@ PetscErrorCode M2dFileCommit(M2dFile *f)
   if (rename(f->tmp, f->final)) {
     int e = errno;
     unlink(f->tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename '%s' to '%s': %s", f->tmp, f->final, strerror(e));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write output file '%s': %s", f->final, strerror(e));
   }
   PetscFunctionReturn(0);
 }

@@ -67,7 +67,7 @@ print("PVJSON " + json.dumps(res))
 
 def paraview_read(d, name):
     exe = shutil.which(PVPYTHON)
-    check(exe is not None, "pvpython found (%s); install python3-paraview" % PVPYTHON)
+    check(exe is not None, "pvpython available (%s)%s" % (exe or PVPYTHON, "" if exe else ": not found, install Debian's python3-paraview"))
     script = os.path.join(d, "pv_read.py")
     with open(script, "w") as f:
         f.write(PV_SCRIPT)
