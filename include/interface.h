@@ -19,6 +19,7 @@ typedef struct {
   PetscInt  *n2e_ptr; /* node -> edges (CSR) */
   PetscInt  *n2e;
   PetscReal  lo[2], hi[2]; /* bounding box */
+  PetscInt   body;         /* body index of the surface's cells (-1 if unknown) */
 } Surface;
 
 /* Build from plain lists (used by SurfaceGather and by the unit tests). Edges

@@ -18,16 +18,24 @@
 
 typedef struct {
   PetscInt  nlam;
-  Mat       C;     /* nlam x Nu, Dirichlet columns zeroed */
+  Mat       K;     /* elasticity, Dirichlet rows applied (reference) */
+  Vec       f;     /* load, Dirichlet-lifted (reference) */
+  Mat       C;     /* nlam x Nu, Dirichlet columns zeroed: all candidate rows */
   Vec       r;     /* right-hand side of the multiplier rows */
-  Mat       Kblk;  /* the (u,u) block (K, or its augmented copy) */
-  Mat       Ct, Z, nest, A; /* A: operator handed to the KSP (nest or aij) */
+  Mat       CA;    /* the (lambda,u) block in use: rows of C, inactive ones zeroed */
+  Mat       Kblk;  /* the (u,u) block: K, or K + gamma CA^T CA */
+  Mat       CtCA;  /* CA^T CA (augmentation only) */
+  Mat       Ct, Z, nest, A; /* Z: (lambda,lambda) block; A: operator for the KSP (nest or aij) */
   IS        isu, isl;       /* u and lambda in the global numbering of A */
   Vec       b, x;
   PetscReal gamma;          /* applied augmentation weight (scaled) */
+  PetscBool aij;
 } KKT;
 
 PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt);
+/* Make rows with active[j] = 0 read lambda_j = 0 (scaled by -1/c) and the
+ * others the constraint C_j u = r_j; rebuild the augmented block and A. */
+PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c);
 /* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
 PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp);
 /* solve; u gets the displacement, lam (layout of C's rows) the multipliers */

@@ -11,7 +11,7 @@
  * (seed eq. 6). On a segment, with N the linear shape functions,
  *   D_ij += int N_i(zeta) N_j(zeta) da,   M_ik += int N_i(zeta) N_k(xi(zeta)) da
  * (seed eqs. 12-15) by 2-point Gauss, exact for straight edges since xi is
- * affine in zeta. Row j: D_jk n on non-mortar node k, -M_jl n on mortar node l.
+ * affine in zeta (also with the dual basis below: the integrands stay quadratic). Row j: D_jk n on non-mortar node k, -M_jl n on mortar node l.
  *
  * Node-to-segment (seed section 3): node s projects onto the closest mortar
  * edge (xi), tributary length a_s: row a_s [n, -N_1(xi) n, -N_2(xi) n]. */
@@ -45,8 +45,15 @@ typedef struct {
 PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscReal reach, SegmentSet *S);
 PetscErrorCode SegmentSetDestroy(SegmentSet *S);
 /* D (2x2, non-mortar edge nodes i,j) and M (2x2, i and mortar edge nodes k) of one segment */
-void           MortarSegmentDM(const Surface *nm, const Segment *s, PetscReal D[4], PetscReal M[4]);
-PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, ContactRows *R);
+/* multiplier basis: standard (lambda interpolated by N, seed eq. 10) or dual
+ * (biorthogonal psi_1 = 2 N_1 - N_2, psi_2 = 2 N_2 - N_1: int psi_i N_j = delta_ij int N_j,
+ * so D is diagonal on fully covered edges and the nodal contact conditions decouple) */
+typedef enum {
+  MORTAR_STANDARD,
+  MORTAR_DUAL
+} MortarBasis;
+void           MortarSegmentDM(const Surface *nm, const Segment *s, MortarBasis basis, PetscReal D[4], PetscReal M[4]);
+PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, MortarBasis basis, ContactRows *R);
 PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, ContactRows *R);
 PetscErrorCode ContactRowsDestroy(ContactRows *R);
 #endif

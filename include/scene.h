@@ -43,12 +43,14 @@ typedef struct {
 typedef struct {
   char      group[M2D_NAME_LEN]; /* physical curve */
   PetscBool is_pressure;
-  PetscReal p;    /* pressure, positive pushing into the body */
+  PetscReal p;    /* pressure, positive pushing into the body: p + grad . (x, y) */
+  PetscReal grad[2];
   PetscReal t[2]; /* traction vector */
 } EdgeLoad;
 
 typedef struct {
   PetscInt    nmesh;
+  PetscReal   mesh_scale; /* coordinates are multiplied by this (unit change) */
   char        mesh[2][PETSC_MAX_PATH_LEN];
   PetscInt    nbody; /* 0 = every physical surface is a body */
   Body        body[M2D_MAX_BODIES];
@@ -62,7 +64,15 @@ typedef struct {
   /* contact pair (empty: no contact) */
   char          contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
   ContactMethod method;
+  int           basis;       /* MortarBasis (mortar.h) */
   PetscReal     reach;       /* search distance; <= 0: automatic */
+  PetscBool     unilateral;  /* FALSE: every candidate node is held closed (tied) */
+  PetscReal     contact_c;   /* complementarity parameter; <= 0: automatic */
+  PetscBool     contact_monitor;
+  PetscInt      contact_initial; /* first active set: 0 closed gaps, 1 closest nodes, 2 every candidate */
+  PetscBool     hertz;       /* compare the contact pressure with Hertz */
+  PetscReal     hertz_radius, hertz_load;
+  PetscReal     exact_p;     /* -exact uniform: the exact -sigma_yy */
   KKTMatType    kkt_mat;
   PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
   char        outdir[PETSC_MAX_PATH_LEN];

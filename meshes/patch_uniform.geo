@@ -6,13 +6,15 @@
 // `angle` degrees (counter-clockwise).
 //   gmsh -2 -format msh41 -setnumber angle 30 patch_uniform.geo -o patch.msh
 //   gmsh -2 -format msh41 -setnumber body 1 patch_uniform.geo -o lower.msh
+// `gap` lifts the upper body by that much (before the rotation): an initial gap.
 DefineConstant[
   nl    = {10, Min 1, Step 1, Name "Parameters/nl"},
   nu    = {7,  Min 1, Step 1, Name "Parameters/nu"},
   ny    = {5,  Min 1, Step 1, Name "Parameters/ny"},
   body  = {0,  Choices {0 = "both", 1 = "lower only", 2 = "upper only"},
            Name "Parameters/body"},
-  angle = {0,  Name "Parameters/angle"}
+  angle = {0,  Name "Parameters/angle"},
+  gap   = {0,  Name "Parameters/gap"}
 ];
 
 Mesh.SaveAll = 0;
@@ -49,10 +51,12 @@ EndIf
 
 If (body != 1)
   // ---------------- upper body ----------------
-  Point(11) = {-sa * 0.5,         ca * 0.5,          0};
-  Point(12) = {ca * 1 - sa * 0.5, sa * 1 + ca * 0.5, 0};
-  Point(13) = {ca * 1 - sa * 1.0, sa * 1 + ca * 1.0, 0};
-  Point(14) = {-sa * 1.0,         ca * 1.0,          0};
+  y0 = 0.5 + gap;
+  y1 = 1.0 + gap;
+  Point(11) = {-sa * y0,          ca * y0,           0};
+  Point(12) = {ca * 1 - sa * y0,  sa * 1 + ca * y0,  0};
+  Point(13) = {ca * 1 - sa * y1,  sa * 1 + ca * y1,  0};
+  Point(14) = {-sa * y1,          ca * y1,           0};
   Line(11) = {11, 12};  // bottom (contact)
   Line(12) = {12, 13};  // right
   Line(13) = {13, 14};  // top

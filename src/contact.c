@@ -14,18 +14,18 @@ PetscErrorCode ContactSetup(const Mesh *m, const Scene *s, Contact *c)
   if (c->reach <= 0) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   if (s->method == CONTACT_MORTAR) {
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
-    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, &c->R));
+    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
   PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)c->reach);
-  PetscCall(PetscPrintf(comm, "contact: %s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == CONTACT_MORTAR ? "mortar" : "node-to-segment", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
+  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == CONTACT_MORTAR ? (s->basis == MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam)
+PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam, Vec active)
 {
-  Vec                gw, all_l, all_g;
+  Vec                gw, all_l, all_g, all_a;
   VecScatter         sc;
-  const PetscScalar *la, *ga;
+  const PetscScalar *la, *ga, *aa;
 
   PetscFunctionBeginUser;
   /* weighted gap g~ = r - C u (r carries g~0 and the Dirichlet part) */
@@ -38,14 +38,21 @@ PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam)
   PetscCall(VecScatterEnd(sc, lam, all_l, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterBegin(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(PetscFree2(c->pressure, c->gap));
-  PetscCall(PetscMalloc2(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap));
+  PetscCall(VecDuplicate(all_l, &all_a));
+  if (active) {
+    PetscCall(VecScatterBegin(sc, active, all_a, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(sc, active, all_a, INSERT_VALUES, SCATTER_FORWARD));
+  } else PetscCall(VecSet(all_a, 1.0));
+  PetscCall(PetscFree3(c->pressure, c->gap, c->active));
+  PetscCall(PetscMalloc3(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap, c->R.n + 1, &c->active));
   PetscCall(VecGetArrayRead(all_l, &la));
   PetscCall(VecGetArrayRead(all_g, &ga));
+  PetscCall(VecGetArrayRead(all_a, &aa));
   c->force[0] = c->force[1] = c->force_n = 0;
   for (PetscInt j = 0; j < c->R.n; j++) {
     c->pressure[j] = PetscRealPart(la[j]);
     c->gap[j]      = PetscRealPart(ga[j]) / c->R.w[j];
+    c->active[j]   = PetscRealPart(aa[j]);
     c->force_n += c->pressure[j] * c->R.w[j];
   }
   /* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
@@ -64,6 +71,8 @@ PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam)
     }
   PetscCall(VecRestoreArrayRead(all_l, &la));
   PetscCall(VecRestoreArrayRead(all_g, &ga));
+  PetscCall(VecRestoreArrayRead(all_a, &aa));
+  PetscCall(VecDestroy(&all_a));
   PetscCall(VecScatterDestroy(&sc));
   PetscCall(VecDestroy(&all_l));
   PetscCall(VecDestroy(&all_g));
@@ -131,10 +140,10 @@ PetscErrorCode ContactWriteCSV(MPI_Comm comm, const Contact *c, const char *path
     qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpXY);
     ierr = M2dFileOpen(path, &f);
     if (!ierr) {
-      fprintf(f.fp, "x,y,gap,pressure,weight\n");
+      fprintf(f.fp, "x,y,gap,pressure,weight,active\n");
       for (PetscInt k = 0; k < c->R.n; k++) {
         PetscInt j = o[k].j;
-        fprintf(f.fp, "%.17g,%.17g,%.17g,%.17g,%.17g\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j]);
+        fprintf(f.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j], c->active[j] != 0);
       }
       ierr = M2dFileCommit(&f);
     }
@@ -152,6 +161,55 @@ PetscErrorCode ContactDestroy(Contact *c)
   PetscCall(SurfaceDestroy(&c->m));
   PetscCall(SegmentSetDestroy(&c->seg));
   PetscCall(ContactRowsDestroy(&c->R));
-  PetscCall(PetscFree2(c->pressure, c->gap));
+  PetscCall(PetscFree3(c->pressure, c->gap, c->active));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
+{
+  XYIdx    *o;
+  PetscReal inv = 0, Es, P = s->hertz_load, R = s->hertz_radius, num = 0, den = 0;
+  PetscInt  n = c->R.n, last = -1;
+  const int ns = 3000;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(h, sizeof(*h)));
+  for (PetscInt k = 0; k < s->nbody; k++) inv += (s->plane == PLANE_STRAIN ? 1 - s->body[k].nu * s->body[k].nu : 1.0) / s->body[k].E;
+  PetscCheck(s->nbody == 2, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -hertz: needs exactly two bodies");
+  Es    = 1.0 / inv;
+  h->a  = PetscSqrtReal(4 * P * R / (PETSC_PI * Es));
+  h->p0 = 2 * P / (PETSC_PI * h->a);
+  PetscCall(PetscMalloc1(n + 1, &o));
+  for (PetscInt j = 0; j < n; j++) {
+    o[j].x = PetscAbsReal(c->nm.x[2 * c->R.node[j]]);
+    o[j].y = c->nm.x[2 * c->R.node[j] + 1];
+    o[j].j = j;
+  }
+  qsort(o, (size_t)n, sizeof(XYIdx), CmpXY);
+  for (PetscInt k = 0; k < n; k++) {
+    h->peak_pressure = PetscMax(h->peak_pressure, c->pressure[o[k].j]);
+    if (c->active[o[k].j] != 0) last = k;
+  }
+  if (last >= 0) {
+    PetscReal xn   = last + 1 < n ? o[last + 1].x : o[last].x;
+    h->half_width  = 0.5 * (o[last].x + xn);
+    h->h_edge      = xn - o[last].x;
+  }
+  /* L2 on [0, 1.5 a] of the piecewise linear nodal pressure (midpoint rule, fine) */
+  for (int i = 0; i < ns; i++) {
+    PetscReal x = (i + 0.5) * 1.5 * h->a / ns, ph = 0, pe = x < h->a ? h->p0 * PetscSqrtReal(1 - x * x / (h->a * h->a)) : 0;
+    PetscInt  k = 0;
+    while (k + 1 < n && o[k + 1].x < x) k++;
+    if (n == 1) ph = c->pressure[o[0].j];
+    else if (x <= o[0].x) ph = c->pressure[o[0].j];
+    else if (k + 1 < n) {
+      PetscReal t = (x - o[k].x) / (o[k + 1].x - o[k].x);
+      ph          = (1 - t) * c->pressure[o[k].j] + t * c->pressure[o[k + 1].j];
+    }
+    num += (ph - pe) * (ph - pe);
+    den += pe * pe;
+  }
+  h->pressure_l2_rel = PetscSqrtReal(num / den);
+  PetscCall(PetscFree(o));
   PetscFunctionReturn(0);
 }

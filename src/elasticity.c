@@ -175,18 +175,23 @@ static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscSca
         nrm[0] = -nrm[0];
         nrm[1] = -nrm[1];
       }
-      if (ld->is_pressure) {
-        t[0] = -ld->p * nrm[0];
-        t[1] = -ld->p * nrm[1];
-      } else {
-        t[0] = ld->t[0];
-        t[1] = ld->t[1];
-      }
       PetscCall(PetscSectionGetOffset(lsec, cone[0], &la));
       PetscCall(PetscSectionGetOffset(lsec, cone[1], &lb));
-      for (int d = 0; d < 2; d++) {
-        fl[la + d] += 0.5 * len * t[d];
-        fl[lb + d] += 0.5 * len * t[d];
+      for (int g = 0; g < 2; g++) { /* 2-point Gauss: exact for linear pressure */
+        PetscReal Na = 0.5 * (1 - g2[g]), Nb = 0.5 * (1 + g2[g]);
+        PetscReal x = Na * xa[0] + Nb * xb[0], y = Na * xa[1] + Nb * xb[1];
+        if (ld->is_pressure) {
+          PetscReal p = ld->p + ld->grad[0] * x + ld->grad[1] * y;
+          t[0]        = -p * nrm[0];
+          t[1]        = -p * nrm[1];
+        } else {
+          t[0] = ld->t[0];
+          t[1] = ld->t[1];
+        }
+        for (int d = 0; d < 2; d++) {
+          fl[la + d] += 0.5 * len * 0.5 * Na * 2 * t[d];
+          fl[lb + d] += 0.5 * len * 0.5 * Nb * 2 * t[d];
+        }
       }
     }
     PetscCall(ISRestoreIndices(is, &pts));

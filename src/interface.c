@@ -10,6 +10,7 @@ PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt
   PetscCall(PetscMemzero(s, sizeof(*s)));
   s->nnode = nnode;
   s->nedge = nedge;
+  s->body  = -1;
   PetscCall(PetscMalloc3(2 * nnode + 1, &s->x, nnode + 1, &s->gdof, 2 * nedge + 1, &s->edge));
   PetscCall(PetscMalloc2(2 * nedge + 1, &s->normal, nedge + 1, &s->len));
   PetscCall(PetscArraycpy(s->x, x, 2 * nnode));
@@ -111,7 +112,7 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
   PetscCall(VecGetArrayRead(cl, &ca));
   PetscCall(ISGetLocalSize(is, &n));
   PetscCall(ISGetIndices(is, &pts));
-  PetscCall(PetscMalloc1(6 * n + 1, &rec));
+  PetscCall(PetscMalloc1(7 * n + 1, &rec));
   for (PetscInt i = 0; i < n; i++) {
     PetscInt        e = pts[i], c, v[2], off[2], g[2];
     const PetscInt *cone, *supp;
@@ -147,12 +148,13 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
       xb[0]        = t0;
       xb[1]        = t1;
     }
-    rec[6 * nloc + 0] = (double)g[0];
-    rec[6 * nloc + 1] = (double)g[1];
-    rec[6 * nloc + 2] = xa[0];
-    rec[6 * nloc + 3] = xa[1];
-    rec[6 * nloc + 4] = xb[0];
-    rec[6 * nloc + 5] = xb[1];
+    rec[7 * nloc + 0] = (double)g[0];
+    rec[7 * nloc + 1] = (double)g[1];
+    rec[7 * nloc + 2] = xa[0];
+    rec[7 * nloc + 3] = xa[1];
+    rec[7 * nloc + 4] = xb[0];
+    rec[7 * nloc + 5] = xb[1];
+    rec[7 * nloc + 6] = (double)m->cellbody[c - m->cStart];
     nloc++;
   }
   PetscCall(ISRestoreIndices(is, &pts));
@@ -161,20 +163,20 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
   PetscCall(PetscFree(ghost));
   /* all ranks get every edge */
   PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
-  nrec = (PetscMPIInt)(6 * nloc);
+  nrec = (PetscMPIInt)(7 * nloc);
   PetscCallMPI(MPI_Allgather(&nrec, 1, MPI_INT, counts, 1, MPI_INT, comm));
   displs[0] = 0;
   for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
   PetscCall(PetscMalloc1(displs[size] + 1, &all));
   PetscCallMPI(MPI_Allgatherv(rec, nrec, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, comm));
-  nedge = displs[size] / 6;
+  nedge = displs[size] / 7;
   PetscCall(PetscFree2(counts, displs));
   PetscCall(PetscFree(rec));
   PetscCheck(nedge > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' has no edges", option, group);
   /* unique nodes by global dof, in a rank-independent order */
   PetscCall(PetscMalloc1(2 * nedge, &dp));
   for (PetscInt k = 0; k < 2 * nedge; k++) {
-    dp[k].gdof = (PetscInt)all[6 * (k / 2) + (k % 2)];
+    dp[k].gdof = (PetscInt)all[7 * (k / 2) + (k % 2)];
     dp[k].pos  = k;
   }
   qsort(dp, (size_t)(2 * nedge), sizeof(DofPos), CmpDofPos);
@@ -183,13 +185,15 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
     PetscInt e = dp[k].pos / 2, end = dp[k].pos % 2;
     if (k == 0 || dp[k].gdof != dp[k - 1].gdof) {
       gdof[nnode]      = dp[k].gdof;
-      x[2 * nnode]     = all[6 * e + 2 + 2 * end];
-      x[2 * nnode + 1] = all[6 * e + 3 + 2 * end];
+      x[2 * nnode]     = all[7 * e + 2 + 2 * end];
+      x[2 * nnode + 1] = all[7 * e + 3 + 2 * end];
       nnode++;
     }
     edge[dp[k].pos] = nnode - 1;
   }
   PetscCall(SurfaceCreate(nnode, x, gdof, nedge, edge, s));
+  s->body = (PetscInt)all[6];
+  for (PetscInt e = 1; e < nedge; e++) PetscCheck((PetscInt)all[7 * e + 6] == s->body, comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", option, group);
   PetscCall(PetscFree3(edge, gdof, x));
   PetscCall(PetscFree(dp));
   PetscCall(PetscFree(all));

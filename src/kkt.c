@@ -46,6 +46,11 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
   kkt->nlam = R->n;
+  kkt->K    = K;
+  kkt->f    = f;
+  kkt->aij  = (PetscBool)(s->kkt_mat == KKT_AIJ);
+  PetscCall(PetscObjectReference((PetscObject)K));
+  PetscCall(PetscObjectReference((PetscObject)f));
   PetscCall(BuildC(comm, R, K, &kkt->C));
   PetscCall(MatCreateVecs(kkt->C, NULL, &g0));
   PetscCall(VecDuplicate(g0, &kkt->r));
@@ -65,20 +70,20 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscCall(MatDiagonalScale(kkt->C, NULL, mask));
   PetscCall(VecDestroy(&mask));
   PetscCall(MatTranspose(kkt->C, MAT_INITIAL_MATRIX, &kkt->Ct));
+  PetscCall(MatDuplicate(kkt->C, MAT_COPY_VALUES, &kkt->CA));
 
   /* the (u,u) block and its right-hand side */
   PetscCall(VecDuplicate(f, &fk));
   PetscCall(VecCopy(f, fk));
   if (s->kkt_augment > 0) {
-    Mat       CtC;
     Vec       dk, dc;
     PetscReal sk, sc;
     PetscInt  n;
-    PetscCall(MatTransposeMatMult(kkt->C, kkt->C, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &CtC));
+    PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
     PetscCall(MatCreateVecs(K, &dk, NULL));
     PetscCall(VecDuplicate(dk, &dc));
     PetscCall(MatGetDiagonal(K, dk));
-    PetscCall(MatGetDiagonal(CtC, dc));
+    PetscCall(MatGetDiagonal(kkt->CtCA, dc));
     PetscCall(VecNorm(dk, NORM_1, &sk));
     PetscCall(VecNorm(dc, NORM_1, &sc));
     PetscCall(VecGetSize(dk, &n));
@@ -86,12 +91,11 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
     sc /= PetscMax(1, 2 * kkt->nlam);
     kkt->gamma = sc > 0 ? s->kkt_augment * sk / sc : 0;
     PetscCall(MatDuplicate(K, MAT_COPY_VALUES, &kkt->Kblk));
-    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, CtC, DIFFERENT_NONZERO_PATTERN));
+    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, DIFFERENT_NONZERO_PATTERN));
     PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
     PetscCall(VecAXPY(fk, kkt->gamma, dk));
     PetscCall(VecDestroy(&dk));
     PetscCall(VecDestroy(&dc));
-    PetscCall(MatDestroy(&CtC));
   } else {
     PetscCall(PetscObjectReference((PetscObject)K));
     kkt->Kblk = K;
@@ -105,7 +109,7 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscCall(MatAssemblyBegin(kkt->Z, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->Z, MAT_FINAL_ASSEMBLY));
   {
-    Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->C, kkt->Z};
+    Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->CA, kkt->Z};
     PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   }
   if (s->kkt_mat == KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
@@ -125,6 +129,42 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscCall(VecISCopy(kkt->b, kkt->isu, SCATTER_FORWARD, fk));
   PetscCall(VecISCopy(kkt->b, kkt->isl, SCATTER_FORWARD, kkt->r));
   PetscCall(VecDestroy(&fk));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c)
+{
+  const PetscScalar *a;
+  PetscInt           lo, hi, n = 0, *rows;
+  Vec                zd;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(active, &lo, &hi));
+  PetscCall(PetscMalloc1(hi - lo + 1, &rows));
+  PetscCall(VecDuplicate(active, &zd));
+  PetscCall(VecGetArrayRead(active, &a));
+  for (PetscInt j = lo; j < hi; j++) {
+    if (PetscRealPart(a[j - lo]) == 0) rows[n++] = j;
+    PetscCall(VecSetValue(zd, j, PetscRealPart(a[j - lo]) == 0 ? -1.0 / c : 0.0, INSERT_VALUES));
+  }
+  PetscCall(VecRestoreArrayRead(active, &a));
+  PetscCall(VecAssemblyBegin(zd));
+  PetscCall(VecAssemblyEnd(zd));
+  PetscCall(MatCopy(kkt->C, kkt->CA, SAME_NONZERO_PATTERN));
+  PetscCall(MatSetOption(kkt->CA, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  PetscCall(MatZeroRows(kkt->CA, n, rows, 0.0, NULL, NULL));
+  PetscCall(MatDiagonalSet(kkt->Z, zd, INSERT_VALUES));
+  PetscCall(VecDestroy(&zd));
+  PetscCall(PetscFree(rows));
+  if (kkt->gamma > 0) {
+    PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_REUSE_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
+    PetscCall(MatZeroEntries(kkt->Kblk));
+    PetscCall(MatAXPY(kkt->Kblk, 1.0, kkt->K, SUBSET_NONZERO_PATTERN));
+    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN));
+  }
+  PetscCall(MatAssemblyBegin(kkt->nest, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(kkt->nest, MAT_FINAL_ASSEMBLY));
+  if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_REUSE_MATRIX, &kkt->A));
   PetscFunctionReturn(0);
 }
 
@@ -161,6 +201,10 @@ PetscErrorCode KKTDestroy(KKT *kkt)
 {
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&kkt->C));
+  PetscCall(MatDestroy(&kkt->CA));
+  PetscCall(MatDestroy(&kkt->CtCA));
+  PetscCall(MatDestroy(&kkt->K));
+  PetscCall(VecDestroy(&kkt->f));
   PetscCall(MatDestroy(&kkt->Ct));
   PetscCall(MatDestroy(&kkt->Z));
   PetscCall(MatDestroy(&kkt->Kblk));

@@ -6,6 +6,7 @@
  * (surfaces, search, mortar segments or NTS rows), Assembly (Q4 stiffness,
  * loads, Dirichlet rows, KKT system), Solve (KSP from the options database,
  * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, CSV, summary). */
+#include "activeset.h"
 #include "contact.h"
 #include "elasticity.h"
 #include "mesh.h"
@@ -115,7 +116,8 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscBool     has_contact;
   Contact       contact;
   KKT           kkt;
-  Vec           lam = NULL, cfield = NULL;
+  Vec           lam = NULL, cfield = NULL, active = NULL;
+  ActiveSetInfo asinfo;
 
   PetscFunctionBeginUser;
   tstart = M2dWallTime();
@@ -169,6 +171,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   if (has_contact) {
     PetscCall(KKTCreate(&s, &contact.R, K, f, u, ndir, drows, &kkt));
     PetscCall(VecDuplicate(kkt.r, &lam));
+    PetscCall(VecDuplicate(kkt.r, &active));
   }
   PetscCall(PetscFree2(drows, dvals));
   t[ST_ASSEMBLY] = M2dWallTime() - t[ST_ASSEMBLY];
@@ -177,15 +180,26 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(PetscLogStagePush(stage[ST_SOLVE]));
   t[ST_SOLVE] = M2dWallTime();
   PetscCall(KSPCreate(comm, &ksp));
-  if (has_contact) PetscCall(KSPSetOperators(ksp, kkt.A, kkt.A));
-  else PetscCall(KSPSetOperators(ksp, K, K));
-  PetscCall(SetupSolver(ksp));
-  if (has_contact) {
-    PetscCall(KKTSetupKSP(&kkt, ksp));
-    PetscCall(KKTSolve(&kkt, ksp, u, lam));
-  } else PetscCall(KSPSolve(ksp, f, u));
-  PetscCall(KSPGetConvergedReason(ksp, &reason));
-  PetscCall(KSPGetIterationNumber(ksp, &its));
+  PetscCall(PetscMemzero(&asinfo, sizeof(asinfo)));
+  if (has_contact && s.unilateral) {
+    PetscCall(ActiveSetSolve(&s, &m, &contact, &kkt, u, lam, active, &asinfo));
+    PetscCall(KSPSetOperators(ksp, K, K)); /* unused: the SNES has its own */
+    reason = KSP_CONVERGED_ITS;
+    its    = 0;
+  } else {
+    if (has_contact) PetscCall(KSPSetOperators(ksp, kkt.A, kkt.A));
+    else PetscCall(KSPSetOperators(ksp, K, K));
+    PetscCall(SetupSolver(ksp));
+    if (has_contact) {
+      PetscCall(KKTSetupKSP(&kkt, ksp));
+      PetscCall(KKTSolve(&kkt, ksp, u, lam));
+      PetscCall(VecSet(active, 1.0));
+    } else PetscCall(KSPSolve(ksp, f, u));
+  }
+  if (!(has_contact && s.unilateral)) {
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    PetscCall(KSPGetIterationNumber(ksp, &its));
+  }
   if (reason <= 0) {
     PetscBool fs;
     PC        pc;
@@ -219,12 +233,31 @@ static PetscErrorCode Run(MPI_Comm comm)
   SummaryInt(sum, "", "ksp_iterations", its);
   if (has_contact) {
     char csv[PETSC_MAX_PATH_LEN];
-    PetscCall(ContactResults(&contact, &kkt, u, lam));
+    PetscCall(ContactResults(&contact, &kkt, u, lam, active));
     SummaryString(sum, "", "method", s.method == CONTACT_MORTAR ? "mortar" : "nts");
     SummaryInt(sum, "", "contact_nodes", contact.R.n);
     SummaryReal(sum, "", "contact_force", contact.force_n);
     SummaryReal(sum, "", "contact_force_x", contact.force[0]);
     SummaryReal(sum, "", "contact_force_y", contact.force[1]);
+    SummaryString(sum, "", "contact_solver", !s.unilateral ? "tied" : asinfo.vi ? "vinewtonrsls" : "pdas");
+    SummaryInt(sum, "", "iterations", s.unilateral ? asinfo.iterations : 1);
+    {
+      PetscReal na;
+      PetscCall(VecSum(active, &na));
+      SummaryInt(sum, "", "active_nodes", (PetscInt)(na + 0.5));
+    }
+    if (s.unilateral) SummaryReal(sum, "", "contact_c", asinfo.c);
+    if (s.hertz) {
+      HertzResult h;
+      PetscCall(ContactHertz(&contact, &s, &h));
+      SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
+      SummaryReal(sum, "", "peak_pressure", h.peak_pressure);
+      SummaryReal(sum, "", "half_width", h.half_width);
+      SummaryReal(sum, "", "half_width_spacing", h.h_edge);
+      SummaryReal(sum, "", "hertz_a", h.a);
+      SummaryReal(sum, "", "hertz_p0", h.p0);
+      PetscCall(PetscPrintf(comm, "Hertz: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", (double)h.a, (double)h.half_width, (double)h.h_edge, (double)h.p0, (double)h.peak_pressure, (double)h.pressure_l2_rel));
+    }
     PetscCall(PetscPrintf(comm, "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (double)contact.force_n, (double)contact.force[0], (double)contact.force[1]));
     PetscCall(VecDuplicate(u, &cfield));
     PetscCall(ContactFillField(&contact, cfield));
@@ -234,7 +267,7 @@ static PetscErrorCode Run(MPI_Comm comm)
     }
   }
   if (s.exact == EXACT_UNIFORM) {
-    PetscReal p = s.load[0].p, e[3] = {0, 0, 0};
+    PetscReal p = s.exact_p, e[3] = {0, 0, 0};
     for (PetscInt c = 0; c < nlc; c++) {
       e[0] = PetscMax(e[0], PetscAbsReal(stress[6 * c + 1] + p) / PetscAbsReal(p));
       e[1] = PetscMax(e[1], PetscAbsReal(stress[6 * c + 0]) / PetscAbsReal(p));
@@ -280,6 +313,7 @@ static PetscErrorCode Run(MPI_Comm comm)
     PetscCall(KKTDestroy(&kkt));
   }
   PetscCall(VecDestroy(&lam));
+  PetscCall(VecDestroy(&active));
   PetscCall(VecDestroy(&cfield));
   PetscCall(PetscFree(sum));
   PetscCall(PetscFree(stress));

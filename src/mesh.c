@@ -122,8 +122,8 @@ static int ReadMerge(const Scene *s, ReadInfo *ri, PetscInt *nc_out, PetscInt *n
       cellbody[c] = b;
       for (int k = 0; k < 4; k++) {
         long n    = msh[f].quad[4 * q + k];
-        xy[2 * k]     = msh[f].xy[2 * n];
-        xy[2 * k + 1] = msh[f].xy[2 * n + 1];
+        xy[2 * k]     = s->mesh_scale * msh[f].xy[2 * n];
+        xy[2 * k + 1] = s->mesh_scale * msh[f].xy[2 * n + 1];
         for (int l = 0; l < k; l++)
           if (msh[f].quad[4 * q + l] == n) {
             snprintf(ri->err, sizeof(ri->err), "mesh file '%s': quadrilateral %ld repeats node %ld", s->mesh[f], msh[f].quadtag[q], n);
@@ -152,8 +152,8 @@ static int ReadMerge(const Scene *s, ReadInfo *ri, PetscInt *nc_out, PetscInt *n
     for (long n = 0; n < msh[f].nnode; n++) {
       long g = nodemap[nodeoff[f] + n];
       if (g < 0) continue;
-      coords[2 * g]     = msh[f].xy[2 * n];
-      coords[2 * g + 1] = msh[f].xy[2 * n + 1];
+      coords[2 * g]     = s->mesh_scale * msh[f].xy[2 * n];
+      coords[2 * g + 1] = s->mesh_scale * msh[f].xy[2 * n + 1];
     }
   *coords_out = coords;
   *nc_out     = (PetscInt)nquad;

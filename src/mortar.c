@@ -101,7 +101,7 @@ PetscErrorCode SegmentSetDestroy(SegmentSet *S)
   PetscFunctionReturn(0);
 }
 
-void MortarSegmentDM(const Surface *nm, const Segment *s, PetscReal D[4], PetscReal M[4])
+void MortarSegmentDM(const Surface *nm, const Segment *s, MortarBasis basis, PetscReal D[4], PetscReal M[4])
 {
   const PetscReal L = nm->len[s->nm_edge], h = 0.5 * (s->zeta[1] - s->zeta[0]);
   for (int k = 0; k < 4; k++) D[k] = M[k] = 0;
@@ -109,11 +109,13 @@ void MortarSegmentDM(const Surface *nm, const Segment *s, PetscReal D[4], PetscR
     PetscReal z  = 0.5 * (s->zeta[0] + s->zeta[1]) + h * gp[g];
     PetscReal xi = s->xi[0] + (s->xi[1] - s->xi[0]) * (z - s->zeta[0]) / (s->zeta[1] - s->zeta[0]);
     PetscReal w  = h * 0.5 * L; /* Gauss weight 1, d zeta -> da = L/2 d zeta */
-    PetscReal N[2] = {0.5 * (1 - z), 0.5 * (1 + z)}, Nm[2] = {0.5 * (1 - xi), 0.5 * (1 + xi)};
+    PetscReal N[2] = {0.5 * (1 - z), 0.5 * (1 + z)}, Nm[2] = {0.5 * (1 - xi), 0.5 * (1 + xi)}, Phi[2];
+    Phi[0] = basis == MORTAR_DUAL ? 2 * N[0] - N[1] : N[0];
+    Phi[1] = basis == MORTAR_DUAL ? 2 * N[1] - N[0] : N[1];
     for (int i = 0; i < 2; i++)
       for (int j = 0; j < 2; j++) {
-        D[2 * i + j] += w * N[i] * N[j];
-        M[2 * i + j] += w * N[i] * Nm[j];
+        D[2 * i + j] += w * Phi[i] * N[j];
+        M[2 * i + j] += w * Phi[i] * Nm[j];
       }
   }
 }
@@ -191,7 +193,7 @@ static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, ContactRows *R)
+PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, MortarBasis basis, ContactRows *R)
 {
   RowAcc    *acc;
   PetscReal *g0, *w;
@@ -205,7 +207,7 @@ PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet 
     const PetscReal *n = &m->normal[2 * s->m_edge];
     const PetscInt  *en = &nm->edge[2 * s->nm_edge], *em = &m->edge[2 * s->m_edge];
     PetscReal        D[4], M[4];
-    MortarSegmentDM(nm, s, D, M);
+    MortarSegmentDM(nm, s, basis, D, M);
     for (int i = 0; i < 2; i++) {
       for (int j = 0; j < 2; j++) {
         PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], nm, en[j], D[2 * i + j], n));

@@ -2,7 +2,7 @@
  *
  * Boundary conditions name gmsh physical groups:
  *   -dirichlet GROUP:x|y|xy[:VALUE]   prescribed displacement component(s) (default value 0)
- *   -pressure  GROUP:P                normal pressure P (positive pushes into the body)
+ *   -pressure  GROUP:P[:GX:GY]        normal pressure P + GX x + GY y (positive pushes into the body)
  *   -traction  GROUP:TX:TY            traction vector
  * Several of each are given comma separated. */
 #include "scene.h"
@@ -98,6 +98,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
   }
+  s->mesh_scale = 1.0;
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mesh_scale", "multiply the mesh coordinates by this factor (a change of length unit)", s->mesh_scale, &s->mesh_scale));
+  PetscCheck(s->mesh_scale > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh_scale: %g must be > 0", (double)s->mesh_scale);
   PetscCall(PetscOptionsStringArray("-bodies", "physical surface names of the bodies, comma separated (default: every physical surface is a body)", "", bodies, &nbodies, &set));
   if (!set) nbodies = 0;
   PetscCheck(nbodies <= M2D_MAX_BODIES, comm, PETSC_ERR_USER_INPUT, "option -bodies: at most %d bodies", M2D_MAX_BODIES);
@@ -113,7 +116,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -plane: unknown value '%s' (expected strain or stress)", plane);
 
   PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
-  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P on a physical curve (P > 0 pushes into the body), comma separated; default: none", &pres, &npres));
+  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY] on a physical curve, p = P + GX x + GY y (p > 0 pushes into the body), comma separated; default: none", &pres, &npres));
   PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
   for (PetscInt i = 0; i < ndir; i++) {
     char        *f[4], buf[256];
@@ -134,13 +137,19 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     }
   }
   for (PetscInt i = 0; i < npres; i++) {
-    char     *f[3], buf[256];
+    char     *f[5], buf[256];
     EdgeLoad *l = &s->load[s->nload++];
     PetscCall(PetscStrncpy(buf, pres[i], sizeof(buf)));
-    PetscCheck(Split(buf, f, 2) == 2, comm, PETSC_ERR_USER_INPUT, "option -pressure: '%s' is not GROUP:P", pres[i]);
+    int   nf;
+    nf = Split(buf, f, 4);
+    PetscCheck(nf == 2 || nf == 4, comm, PETSC_ERR_USER_INPUT, "option -pressure: '%s' is not GROUP:P or GROUP:P:GX:GY", pres[i]);
     PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
     l->is_pressure = PETSC_TRUE;
     PetscCall(ParseReal("-pressure", pres[i], f[1], &l->p));
+    if (nf == 4) {
+      PetscCall(ParseReal("-pressure", pres[i], f[2], &l->grad[0]));
+      PetscCall(ParseReal("-pressure", pres[i], f[3], &l->grad[1]));
+    }
   }
   for (PetscInt i = 0; i < ntrac; i++) {
     char     *f[4], buf[256];
@@ -162,6 +171,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else if (!strcmp(exact, "uniform")) s->exact = EXACT_UNIFORM;
   else if (!strcmp(exact, "mms")) s->exact = EXACT_MMS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -exact: unknown value '%s' (expected none, uniform or mms)", exact);
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-exact_p", "exact -sigma_yy for -exact uniform (<= 0: the first -pressure)", s->exact_p, &s->exact_p));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", s->mms_amplitude, &s->mms_amplitude));
   PetscCall(PetscOptionsString("-contact_nonmortar", "physical curve of the non-mortar contact surface (carries the multipliers); empty: no contact", "", s->contact_nm, s->contact_nm, sizeof(s->contact_nm), NULL));
   PetscCall(PetscOptionsString("-contact_mortar", "physical curve of the mortar contact surface", "", s->contact_m, s->contact_m, sizeof(s->contact_m), NULL));
@@ -170,6 +180,31 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   if (!strcmp(method, "mortar")) s->method = CONTACT_MORTAR;
   else if (!strcmp(method, "nts")) s->method = CONTACT_NTS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_method: unknown value '%s' (expected mortar or nts)", method);
+  s->unilateral      = PETSC_TRUE;
+  s->contact_monitor = PETSC_TRUE;
+  s->hertz_radius    = 1.0;
+  s->hertz_load      = -1;
+  PetscCall(PetscOptionsBool("-contact_unilateral", "unilateral contact (active set through SNES); false: every candidate node stays closed (tied, one linear solve)", "", s->unilateral, &s->unilateral, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_c", "complementarity parameter c of the active-set test lambda/c >= gap (<= 0: E*/h^2 from the materials and the non-mortar edge length)", s->contact_c, &s->contact_c));
+  {
+    char init[32] = "closest";
+    PetscCall(PetscOptionsString("-contact_initial", "first active set: gap (nodes whose initial gap is closed), closest (the nodes with the smallest initial gap: a body held only by contact is held from the start), all (every candidate)", "", init, init, sizeof(init), NULL));
+    if (!strcmp(init, "gap")) s->contact_initial = 0;
+    else if (!strcmp(init, "closest")) s->contact_initial = 1;
+    else if (!strcmp(init, "all")) s->contact_initial = 2;
+    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_initial: unknown value '%s' (expected gap, closest or all)", init);
+  }
+  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
+  PetscCall(PetscOptionsBool("-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain) and report it", "", s->hertz, &s->hertz, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_radius", "cylinder radius R for -hertz", s->hertz_radius, &s->hertz_radius));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the first -pressure, as for the quarter model loaded on a unit-width top)", s->hertz_load, &s->hertz_load));
+  {
+    char basis[32] = "standard";
+    PetscCall(PetscOptionsString("-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", "", basis, basis, sizeof(basis), NULL));
+    if (!strcmp(basis, "standard")) s->basis = 0;
+    else if (!strcmp(basis, "dual")) s->basis = 1;
+    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -mortar_basis: unknown value '%s' (expected standard or dual)", basis);
+  }
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
   PetscCall(PetscOptionsString("-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", "", kktmat, kktmat, sizeof(kktmat), NULL));
   if (!strcmp(kktmat, "aij")) s->kkt_mat = KKT_AIJ;
@@ -183,7 +218,15 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsBool("-output_hdf5", "write NAME.h5 and NAME.xmf", "", s->write_hdf5, &s->write_hdf5, NULL));
   PetscCall(PetscOptionsString("-summary", "write a JSON summary of the run to this file (empty: none)", "", s->summary, s->summary, sizeof(s->summary), NULL));
   PetscOptionsEnd();
-  PetscCheck(s->exact != EXACT_UNIFORM || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs a -pressure load (its value is the exact -sigma_yy)");
+  if (s->exact == EXACT_UNIFORM && s->exact_p <= 0) {
+    PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a -pressure load (its value is the exact -sigma_yy)");
+    s->exact_p = s->load[0].p;
+  }
+  if (s->hertz && s->hertz_load <= 0) {
+    PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
+    s->hertz_load = 2 * s->load[0].p;
+  }
+  PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
   PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
   PetscFunctionReturn(0);
 }

@@ -67,7 +67,7 @@ int main(int argc, char **argv)
   TwoEdge(0, 0, 0, &nm, &m);
   PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
   CHECK(S.nseg == 2, "two segments (%d)", (int)S.nseg);
-  PetscCall(MortarRows(&nm, &m, &S, &R));
+  PetscCall(MortarRows(&nm, &m, &S, MORTAR_STANDARD, &R));
   {
     PetscInt  ja = RowOfNode(&R, 0), jb = RowOfNode(&R, 1);
     /* rows hold D n and -M n with n = (0, 1): the y-dofs carry the numbers */
@@ -96,7 +96,7 @@ int main(int argc, char **argv)
     PetscReal  th = 0.7, err = 0;
     TwoEdge(th, 3.3, -1.7, &nm2, &m2);
     PetscCall(MortarBuildSegments(&nm2, &m2, 0.1, &S2));
-    PetscCall(MortarRows(&nm2, &m2, &S2, &Rt));
+    PetscCall(MortarRows(&nm2, &m2, &S2, MORTAR_STANDARD, &Rt));
     CHECK(Rt.n == R.n && S2.nseg == S.nseg, "same segments and multipliers after a rigid motion");
     for (PetscInt j = 0; j < R.n && Rt.n == R.n; j++) {
       err = PetscMax(err, PetscAbsReal(R.w[j] - Rt.w[j]) + PetscAbsReal(Rt.g0[j]));
@@ -128,7 +128,7 @@ int main(int argc, char **argv)
     PetscCall(SurfaceCreate(4, xn, gn, 3, en, &nm));
     PetscCall(SurfaceCreate(3, xm, gm, 2, em, &m));
     PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
-    PetscCall(MortarRows(&nm, &m, &S, &R));
+    PetscCall(MortarRows(&nm, &m, &S, MORTAR_STANDARD, &R));
     for (PetscInt k = 0; k < S.nseg; k++) {
       len += 0.5 * (S.seg[k].zeta[1] - S.seg[k].zeta[0]) * nm.len[S.seg[k].nm_edge];
       finite = (PetscBool)(finite && !PetscIsInfOrNanReal(S.seg[k].zeta[0] + S.seg[k].zeta[1] + S.seg[k].xi[0] + S.seg[k].xi[1]));
