@@ -27,6 +27,9 @@ PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const P
 /* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */
 PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscReal *stress);
 
+/* integral of the pressure of load l over its curve (global) */
+PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, PetscReal *R);
+
 /* manufactured solution (-exact mms) on body b */
 void M2dMMSDisplacement(const Scene *s, PetscReal x, PetscReal y, PetscReal u[2]);
 /* L2 norm of u_h - u_exact and of u_exact (global) */

@@ -33,9 +33,10 @@ typedef struct {
 } KKT;
 
 PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt);
-/* Make rows with active[j] = 0 read lambda_j = 0 (scaled by -1/c) and the
- * others the constraint C_j u = r_j; rebuild the augmented block and A. */
-PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c);
+/* Multiplier rows of A: active[j] != 0 gives the constraint row scale * C_j,
+ * active[j] = 0 gives -(scale / c) e_j (lambda_j = 0). Rebuilds the augmented
+ * block and A. `scale` turns weighted gaps into forces (see activeset.c). */
+PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale);
 /* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
 PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp);
 /* solve; u gets the displacement, lam (layout of C's rows) the multipliers */

@@ -46,4 +46,6 @@ m2d_mesh(seed_patch_16 seed_patch.geo nlx 160 nly 160 nux 81 nuy 80)
 foreach(l 0 1 2 3 4)
   m2d_mesh(hertz_${l} hertz.geo level ${l})
 endforeach()
+# S2 with an initial gap of 0.01 between the bodies
+m2d_mesh(patch_gap patch_uniform.geo gap 0.01)
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})

@@ -5,6 +5,7 @@
 typedef struct {
   KKT       *kkt;
   PetscReal  c;
+  PetscReal  h;               /* mean non-mortar edge length: rows scale c h (weighted gap -> force) */
   PetscBool  vi, monitor;
   Vec        u, lam, gm, tol; /* gm = C u - r = -g~ */
   Vec        active, used;    /* mask at the current iterate, and the one the last Jacobian used */
@@ -91,14 +92,16 @@ static PetscErrorCode FormFunction(SNES snes, Vec z, Vec F, void *ctx)
   PetscCall(MatMult(kkt->K, x->u, Fu));
   PetscCall(MatMultAdd(kkt->Ct, x->lam, Fu, Fu));
   PetscCall(VecAXPY(Fu, -1.0, kkt->f));
+  /* multiplier rows in force units: scaled by c h (c g~ is a pressure) */
   if (x->vi) {
     PetscCall(VecCopy(x->gm, Fl));
-    PetscCall(VecScale(Fl, -1.0)); /* g~ */
+    PetscCall(VecScale(Fl, -x->c * x->h)); /* c h g~ */
   } else {
-    /* F_lambda = max(-lambda/c, C u - r) */
+    /* F_lambda = c h max(-lambda/c, C u - r) */
     PetscCall(VecCopy(x->lam, Fl));
     PetscCall(VecScale(Fl, -1.0 / x->c));
     PetscCall(VecPointwiseMax(Fl, Fl, x->gm));
+    PetscCall(VecScale(Fl, x->c * x->h));
     if (kkt->gamma > 0) { /* augmented rows: + gamma C^T diag(active) (C u - r) */
       Vec t, t2;
       PetscCall(VecDuplicate(x->lam, &t));
@@ -165,7 +168,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
     x->histn[x->nhist++] = x->nactive;
   }
   PetscCall(VecCopy(x->active, x->used));
-  PetscCall(KKTSetActive(x->kkt, x->active, x->c));
+  PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
   PetscFunctionReturn(0);
 }
 
@@ -240,6 +243,8 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   x.c         = s->contact_c > 0 ? s->contact_c : ActiveSetDefaultC(s, ct);
   x.monitor   = s->contact_monitor;
   x.maxcycles = 5;
+  for (PetscInt e = 0; e < ct->nm.nedge; e++) x.h += ct->nm.len[e];
+  x.h /= PetscMax(1, ct->nm.nedge);
   PetscCall(VecDuplicate(u, &x.u));
   PetscCall(VecDuplicate(lam, &x.lam));
   PetscCall(VecDuplicate(lam, &x.gm));
@@ -274,6 +279,12 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   PetscCall(SNESSetTolerances(snes, 1e-50, 1e-10, 0.0, 50, -1));
   PetscCall(SNESSetFromOptions(snes));
   PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESVINEWTONRSLS, &x.vi));
+  if (x.vi) { /* -snes_type resets the line search: full steps again, unless the options say otherwise */
+    SNESLineSearch ls;
+    PetscCall(SNESGetLineSearch(snes, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    PetscCall(SNESLineSearchSetFromOptions(ls));
+  }
   if (!x.vi) {
     PetscBool ok;
     PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESNEWTONLS, &ok));
@@ -311,7 +322,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCheck(kkt->gamma == 0, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: does not combine with -kkt_augment");
     /* Jacobian [K C^T; -C 0]: all rows, multiplier rows negated */
     PetscCall(VecSet(x.active, 1.0));
-    PetscCall(KKTSetActive(kkt, x.active, x.c));
+    PetscCall(KKTSetActive(kkt, x.active, x.c, x.c * x.h));
     PetscCall(VecDuplicate(z, &sgn));
     PetscCall(VecSet(sgn, 1.0));
     PetscCall(VecSet(x.lam, -1.0));
@@ -357,7 +368,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   if (x.vi) { /* active = positive multiplier */
     PetscCall(VecCopy(lam, x.lam));
     PetscCall(UpdateMask(&x));
-  }
+  } else PetscCall(VecPointwiseMult(lam, lam, x.active)); /* inactive rows: lambda = 0 exactly, not round-off */
   info->nactive = x.nactive;
   PetscCall(PetscPrintf(comm, "active set: converged in %" PetscInt_FMT " steps (%s), %" PetscInt_FMT " active nodes\n", info->iterations, SNESConvergedReasons[reason], info->nactive));
   PetscCall(SNESDestroy(&snes));

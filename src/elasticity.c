@@ -201,6 +201,53 @@ static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscSca
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, PetscReal *R)
+{
+  PetscSF            sf;
+  PetscInt           nleaves, n, pStart, pEnd;
+  const PetscInt    *leaves, *pts;
+  PetscSection       cs;
+  Vec                cl;
+  const PetscScalar *ca;
+  IS                 is;
+  PetscReal          sum = 0;
+  PetscBool         *ghost;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetPointSF(m->dm, &sf));
+  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
+  PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
+  PetscCall(PetscCalloc1(pEnd - pStart, &ghost));
+  for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) ghost[(leaves ? leaves[i] : i) - pStart] = PETSC_TRUE;
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshGetGroupIS(m, l->group, "-pressure", &is));
+  PetscCall(ISGetLocalSize(is, &n));
+  PetscCall(ISGetIndices(is, &pts));
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscInt *cone;
+    PetscInt        oa, ob;
+    PetscReal       xa[2], xb[2], len;
+    if (pts[i] < m->eStart || pts[i] >= m->eEnd || ghost[pts[i] - pStart]) continue;
+    PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
+    PetscCall(PetscSectionGetOffset(cs, cone[0], &oa));
+    PetscCall(PetscSectionGetOffset(cs, cone[1], &ob));
+    for (int d = 0; d < 2; d++) {
+      xa[d] = PetscRealPart(ca[oa + d]);
+      xb[d] = PetscRealPart(ca[ob + d]);
+    }
+    len = PetscSqrtReal(PetscSqr(xb[0] - xa[0]) + PetscSqr(xb[1] - xa[1]));
+    sum += len * (l->p + l->grad[0] * 0.5 * (xa[0] + xb[0]) + l->grad[1] * 0.5 * (xa[1] + xb[1]));
+  }
+  PetscCall(ISRestoreIndices(is, &pts));
+  PetscCall(ISDestroy(&is));
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(PetscFree(ghost));
+  PetscCallMPI(MPI_Allreduce(&sum, R, 1, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
 {
   PetscSection       lsec, cs;

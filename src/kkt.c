@@ -132,7 +132,7 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c)
+PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale)
 {
   const PetscScalar *a;
   PetscInt           lo, hi, n = 0, *rows;
@@ -145,7 +145,7 @@ PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c)
   PetscCall(VecGetArrayRead(active, &a));
   for (PetscInt j = lo; j < hi; j++) {
     if (PetscRealPart(a[j - lo]) == 0) rows[n++] = j;
-    PetscCall(VecSetValue(zd, j, PetscRealPart(a[j - lo]) == 0 ? -1.0 / c : 0.0, INSERT_VALUES));
+    PetscCall(VecSetValue(zd, j, PetscRealPart(a[j - lo]) == 0 ? -scale / c : 0.0, INSERT_VALUES));
   }
   PetscCall(VecRestoreArrayRead(active, &a));
   PetscCall(VecAssemblyBegin(zd));
@@ -153,6 +153,7 @@ PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c)
   PetscCall(MatCopy(kkt->C, kkt->CA, SAME_NONZERO_PATTERN));
   PetscCall(MatSetOption(kkt->CA, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
   PetscCall(MatZeroRows(kkt->CA, n, rows, 0.0, NULL, NULL));
+  PetscCall(MatScale(kkt->CA, scale));
   PetscCall(MatDiagonalSet(kkt->Z, zd, INSERT_VALUES));
   PetscCall(VecDestroy(&zd));
   PetscCall(PetscFree(rows));
@@ -160,7 +161,7 @@ PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c)
     PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_REUSE_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
     PetscCall(MatZeroEntries(kkt->Kblk));
     PetscCall(MatAXPY(kkt->Kblk, 1.0, kkt->K, SUBSET_NONZERO_PATTERN));
-    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN));
+    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma / (scale * scale), kkt->CtCA, SUBSET_NONZERO_PATTERN));
   }
   PetscCall(MatAssemblyBegin(kkt->nest, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->nest, MAT_FINAL_ASSEMBLY));

@@ -147,6 +147,10 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(MeshCreate(comm, &s, &m));
   PetscCall(SceneReadMaterials(comm, &s));
   PetscCall(CheckGroups(comm, &s, &m));
+  if (s.hertz && s.hertz_load <= 0) { /* quarter model: the full cylinder carries twice the load */
+    PetscCall(ElasticityPressureResultant(&m, &s.load[0], &s.hertz_load));
+    s.hertz_load *= 2;
+  }
   PetscCall(SceneView(comm, &s));
   t[ST_MESH] = M2dWallTime() - t[ST_MESH];
   PetscCall(PetscLogStagePop());

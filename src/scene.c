@@ -197,7 +197,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
   PetscCall(PetscOptionsBool("-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain) and report it", "", s->hertz, &s->hertz, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_radius", "cylinder radius R for -hertz", s->hertz_radius, &s->hertz_radius));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the first -pressure, as for the quarter model loaded on a unit-width top)", s->hertz_load, &s->hertz_load));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the resultant of the first -pressure, as for the quarter model)", s->hertz_load, &s->hertz_load));
   {
     char basis[32] = "standard";
     PetscCall(PetscOptionsString("-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", "", basis, basis, sizeof(basis), NULL));
@@ -222,10 +222,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a -pressure load (its value is the exact -sigma_yy)");
     s->exact_p = s->load[0].p;
   }
-  if (s->hertz && s->hertz_load <= 0) {
-    PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
-    s->hertz_load = 2 * s->load[0].p;
-  }
+  PetscCheck(!s->hertz || s->hertz_load > 0 || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
   PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
   PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
   PetscFunctionReturn(0);
