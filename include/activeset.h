@@ -21,6 +21,8 @@ typedef struct {
   PetscInt  cycles;
   PetscReal c;
   PetscBool vi;
+  PetscBool condensed;   /* the fast path was used */
+  PetscReal factor_time; /* its one factorization (seconds) */
 } ActiveSetInfo;
 
 /* Solve; u and lam get the solution, active (layout of lam) the final set. */

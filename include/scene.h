@@ -74,6 +74,7 @@ typedef struct {
   PetscReal     hertz_radius, hertz_load;
   PetscReal     exact_p;     /* -exact uniform: the exact -sigma_yy */
   KKTMatType    kkt_mat;
+  PetscBool     condensed;   /* active set: factor once with a Schur complement (condensed.h) */
   PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
   char        outdir[PETSC_MAX_PATH_LEN];
   char        outname[M2D_NAME_LEN];

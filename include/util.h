@@ -10,6 +10,7 @@
 #include <petscsys.h>
 
 PetscErrorCode M2dInstallErrorHandler(void);
+PetscErrorCode M2dRemoveErrorHandler(void);
 const char    *M2dFirstError(void);
 void           M2dClearError(void);
 

@@ -1,5 +1,6 @@
 /* activeset.c - unilateral contact by semismooth Newton (PDAS) or SNESVINEWTONRSLS (see activeset.h). */
 #include "activeset.h"
+#include "condensed.h"
 #include <petscsnes.h>
 
 typedef struct {
@@ -15,7 +16,18 @@ typedef struct {
   uint64_t   hist[1024];
   PetscInt   histn[1024];
   PetscBool  cycling_failed;
+  Condensed *cond; /* fast path, or NULL */
 } Ctx;
+
+static PetscErrorCode CondensedPCApply(PC pc, Vec b, Vec x)
+{
+  Condensed *cs;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &cs));
+  PetscCall(CondensedApply(cs, b, x));
+  PetscFunctionReturn(0);
+}
 
 PetscReal ActiveSetDefaultC(const Scene *s, const Contact *ct)
 {
@@ -102,7 +114,7 @@ static PetscErrorCode FormFunction(SNES snes, Vec z, Vec F, void *ctx)
     PetscCall(VecScale(Fl, -1.0 / x->c));
     PetscCall(VecPointwiseMax(Fl, Fl, x->gm));
     PetscCall(VecScale(Fl, x->c * x->h));
-    if (kkt->gamma > 0) { /* augmented rows: + gamma C^T diag(active) (C u - r) */
+    if (kkt->gamma > 0 && !x->cond) { /* augmented rows: + gamma C^T diag(active) (C u - r) */
       Vec t, t2;
       PetscCall(VecDuplicate(x->lam, &t));
       PetscCall(VecDuplicate(x->u, &t2));
@@ -168,7 +180,8 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
     x->histn[x->nhist++] = x->nactive;
   }
   PetscCall(VecCopy(x->active, x->used));
-  PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
+  if (x->cond) PetscCall(CondensedSetActive(x->cond, x->active, x->c, x->c * x->h));
+  else PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
   PetscFunctionReturn(0);
 }
 
@@ -291,6 +304,19 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
   }
   PetscCall(KKTSetupKSP(kkt, ksp));
+  if (s->condensed && !x.vi) {
+    PC pc;
+    PetscCheck(kkt->aij && kkt->gamma > 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
+    PetscCall(PetscNew(&x.cond));
+    PetscCall(CondensedCreate(kkt, x.cond));
+    PetscCall(KSPSetType(ksp, KSPPREONLY));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCSHELL));
+    PetscCall(PCShellSetContext(pc, x.cond));
+    PetscCall(PCShellSetApply(pc, CondensedPCApply));
+    PetscCall(PCShellSetName(pc, "condensed: MUMPS factor of K + g C^T C with a Schur complement on the multipliers"));
+    info->factor_time = x.cond->factor_time;
+  }
   PetscCall(VecDuplicate(kkt->x, &z));
   PetscCall(VecDuplicate(kkt->x, &F));
   PetscCall(VecZeroEntries(z));
@@ -341,7 +367,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   } else PetscCall(SNESSetConvergenceTest(snes, Converged, &x, NULL));
   PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, FormJacobian, &x));
   PetscCall(SNESMonitorSet(snes, Monitor, &x, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, c = %g, %" PetscInt_FMT " candidate nodes\n", x.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", (double)x.c, kkt->nlam));
+  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", x.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", x.cond ? "K factored once (condensed)" : "KKT refactored each step (full)", (double)x.c, kkt->nlam));
   PetscCall(SNESSolve(snes, NULL, z));
   PetscCall(SNESGetConvergedReason(snes, &reason));
   PetscCall(SNESGetIterationNumber(snes, &info->iterations));
@@ -379,5 +405,10 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   PetscCall(VecDestroy(&x.gm));
   PetscCall(VecDestroy(&x.tol));
   PetscCall(VecDestroy(&x.used));
+  if (x.cond) {
+    PetscCall(CondensedDestroy(x.cond));
+    PetscCall(PetscFree(x.cond));
+  }
+  info->condensed = (PetscBool)(info->factor_time > 0);
   PetscFunctionReturn(0);
 }

@@ -14,6 +14,7 @@
 #include "scene.h"
 #include "util.h"
 #include <petscksp.h>
+#include <petscsnes.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -66,6 +67,21 @@ static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
   PetscFunctionReturn(0);
 }
 
+/* a physical group that exists but holds nothing would silently do nothing */
+static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const Mesh *m, const char *group, const char *opt)
+{
+  IS       is;
+  PetscInt n;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshGetGroupIS(m, group, opt, &is));
+  PetscCall(ISGetLocalSize(is, &n));
+  PetscCall(ISDestroy(&is));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' of mesh file(s) %s has no elements", opt, group, m->files);
+  PetscFunctionReturn(0);
+}
+
 /* every physical group the options name must exist, before any work is done */
 static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
 {
@@ -74,12 +90,14 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
     PetscInt d = MeshGroupDim(m, s->dir[i].group);
     PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: mesh file(s) %s have no physical group '%s'", m->files, s->dir[i].group);
     PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: physical group '%s' is a surface; name a curve or a point", s->dir[i].group);
+    PetscCall(CheckNotEmpty(comm, m, s->dir[i].group, "-dirichlet"));
   }
   for (PetscInt i = 0; i < s->nload; i++) {
     const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
     PetscInt    d   = MeshGroupDim(m, s->load[i].group);
     PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, s->load[i].group);
     PetscCheck(d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, s->load[i].group);
+    PetscCall(CheckNotEmpty(comm, m, s->load[i].group, opt));
   }
   PetscFunctionReturn(0);
 }
@@ -150,6 +168,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   if (s.hertz && s.hertz_load <= 0) { /* quarter model: the full cylinder carries twice the load */
     PetscCall(ElasticityPressureResultant(&m, &s.load[0], &s.hertz_load));
     s.hertz_load *= 2;
+    PetscCheck(s.hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: the load on '%s' is not a compressive force (resultant %g)", s.load[0].group, (double)s.hertz_load / 2);
   }
   PetscCall(SceneView(comm, &s));
   t[ST_MESH] = M2dWallTime() - t[ST_MESH];
@@ -173,6 +192,18 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(ElasticityDirichletRows(&m, &s, &ndir, &drows, &dvals));
   PetscCall(ElasticityApplyDirichlet(K, f, u, ndir, drows, dvals));
   if (has_contact) {
+    if (s.unilateral && s.condensed) {
+      /* the fast path factors K + g C^T C (monolithic) once; what it cannot serve goes the full way */
+      PetscBool vi = PETSC_FALSE;
+      char      st[64];
+      PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &vi));
+      vi = (PetscBool)(vi && !strcmp(st, SNESVINEWTONRSLS));
+      if (s.kkt_mat == KKT_NEST || vi || size > 1) {
+        /* PETSc 3.18 solves with MUMPS Schur complements on one rank only */
+        s.condensed = PETSC_FALSE;
+        PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs 1 rank, -kkt_mat aij and newtonls)\n"));
+      } else if (s.kkt_augment == 0) s.kkt_augment = 1.0;
+    }
     PetscCall(KKTCreate(&s, &contact.R, K, f, u, ndir, drows, &kkt));
     PetscCall(VecDuplicate(kkt.r, &lam));
     PetscCall(VecDuplicate(kkt.r, &active));
@@ -251,6 +282,7 @@ static PetscErrorCode Run(MPI_Comm comm)
       SummaryInt(sum, "", "active_nodes", (PetscInt)(na + 0.5));
     }
     if (s.unilateral) SummaryReal(sum, "", "contact_c", asinfo.c);
+    if (s.unilateral) SummaryString(sum, "", "kkt_path", asinfo.condensed ? "condensed" : "full");
     if (s.hertz) {
       HertzResult h;
       PetscCall(ContactHertz(&contact, &s, &h));
@@ -347,6 +379,7 @@ int main(int argc, char **argv)
     PetscFinalize();
     return 1;
   }
-  ierr = PetscFinalize();
+  ierr = M2dRemoveErrorHandler();
+  ierr = PetscFinalize() || ierr;
   return ierr ? 1 : 0;
 }

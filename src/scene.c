@@ -210,6 +210,13 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   if (!strcmp(kktmat, "aij")) s->kkt_mat = KKT_AIJ;
   else if (!strcmp(kktmat, "nest")) s->kkt_mat = KKT_NEST;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_mat: unknown value '%s' (expected aij or nest)", kktmat);
+  {
+    char path[32] = "condensed";
+    PetscCall(PetscOptionsString("-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; each step a dense n_lambda solve) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", "", path, path, sizeof(path), NULL));
+    if (!strcmp(path, "condensed")) s->condensed = PETSC_TRUE;
+    else if (!strcmp(path, "full")) s->condensed = PETSC_FALSE;
+    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_path: unknown value '%s' (expected condensed or full)", path);
+  }
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));

@@ -20,9 +20,9 @@ static PetscErrorCode M2dErrorHandler(MPI_Comm comm, int line, const char *func,
     if (mess && mess[0]) text = mess;
     else PetscErrorMessage(n, &text, NULL);
     snprintf(first_error, sizeof(first_error), "%s", text ? text : "unknown error");
-    /* keep it to one line */
+    /* keep it to one printable line: a corrupted file's bytes may be quoted in it */
     for (char *c = first_error; *c; c++)
-      if (*c == '\n') *c = ' ';
+      if ((unsigned char)*c < 32 || (unsigned char)*c > 126) *c = '?';
     have_error = 1;
   }
   return n;
@@ -32,6 +32,13 @@ PetscErrorCode M2dInstallErrorHandler(void)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscPushErrorHandler(M2dErrorHandler, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dRemoveErrorHandler(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPopErrorHandler());
   PetscFunctionReturn(0);
 }
 

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
-opts=options/block.opts
+opts=options/seed_patch.opts
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then opts=$1; shift; fi
 name=$(basename "$opts" .opts)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1

@@ -1,0 +1,257 @@
+"""Memory check: mortar2d under valgrind (memcheck) and PETSc's malloc checks.
+
+valgrind runs (1 rank, suppressions in tests/valgrind.supp for Open MPI and
+the libraries under it):
+  S2 patch test      options/patch_uniform.opts
+  Hertz level 0      options/hertz.opts -mesh build/meshes/hertz_0.msh
+  bad input          options/patch_uniform.opts -mesh <missing file>
+Each must exit with its usual code (0, 0, 1; the bad input with its one
+"mortar2d: error:" line), and valgrind must report
+  - no invalid reads/writes/frees (anywhere),
+  - no use of uninitialised values whose stack runs through src/*.c,
+  - no definitely lost block allocated from src/*.c.
+A frame of main() counts as the program's own code only when the error is in
+main() itself (innermost frame): every stack passes through main(), and the
+only calls it makes besides Run() are PetscInitialize/PetscFinalize (whose
+Open MPI noise the suppressions cover).
+Other unsuppressed reports (library-only) are printed as notes.
+
+PETSc's own checks: both good scenes again with -malloc_debug -malloc_dump;
+they must exit 0 and PETSc must not list any unfreed memory.
+
+Options: --error-paths also runs, under valgrind, errors found after the mesh
+is set up (a bad material value, a missing contact group, surfaces that never
+face each other) with the same assertions; --jobs N (default 2)."""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+from m2d import EXE, SRC, mesh, opts, workdir
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--error-paths", action="store_true")
+ap.add_argument("--jobs", type=int, default=2)
+ARGS = ap.parse_args()
+
+PREFIX = "mortar2d: error: "
+W = workdir("memcheck")
+SUPP = os.path.join(SRC, "tests", "valgrind.supp")
+TIMEOUT = 900
+passed = failed = 0
+
+
+def report(ok, what, detail=""):
+    global passed, failed
+    print(("ok   " if ok else "FAIL ") + what + (": " + detail if detail else ""))
+    sys.stdout.flush()
+    if ok:
+        passed += 1
+    else:
+        failed += 1
+
+
+def env():
+    # HWLOC_COMPONENTS=-x86: hwloc's x86 CPUID backend does not work under
+    # valgrind and says so on stderr; the program's stderr is checked here.
+    return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", HWLOC_COMPONENTS="-x86")
+
+
+missing = os.path.join(W, "nosuch.msh")
+if os.path.exists(missing):
+    os.remove(missing)
+
+# (name, args, expected exit code)
+CASES = [
+    ("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform")], 0),
+    ("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")], 0),
+    ("bad input: missing mesh file", ["-options_file", opts("patch_uniform"), "-mesh", missing], 1),
+]
+if ARGS.error_paths:
+    CASES += [
+        ("error path: -lower_E -1", ["-options_file", opts("patch_uniform"), "-lower_E", "-1"], 1),
+        ("error path: -contact_nonmortar nosuch", ["-options_file", opts("patch_uniform"), "-contact_nonmortar", "nosuch"], 1),
+        ("error path: -contact_mortar upper_top", ["-options_file", opts("patch_uniform"), "-contact_mortar", "upper_top"], 1),
+    ]
+
+# ---------------------------------------------------------------- valgrind log
+FRAME = re.compile(r"^\s+(?:at|by) 0x[0-9A-Fa-f]+: (\S+) \((.*)\)\s*$")
+OWN = re.compile(r"^(?:src|include)/[^:]+\.[ch]:\d+$")
+
+
+def records(log):
+    """Valgrind's error records: lists of lines (prefix '==pid== ' removed)."""
+    recs, cur = [], []
+    for line in log.splitlines():
+        m = re.match(r"^==\d+== ?(.*)$", line)
+        if not m:
+            continue
+        text = m.group(1)
+        if not text.strip():
+            if cur:
+                recs.append(cur)
+            cur = []
+        else:
+            cur.append(text)
+    if cur:
+        recs.append(cur)
+    return recs
+
+
+def own_frames(rec):
+    """Frames of the error's own stack (not the origin stack) in src/*.c or
+    include/*.h, other than main()."""
+    own, first = [], True
+    for line in rec[1:]:
+        if line.strip().startswith(("Uninitialised value was created", "Address 0x")):
+            break
+        m = FRAME.match(line)
+        if not m:
+            continue
+        if OWN.match(m.group(2)) and (m.group(1) != "main" or first):
+            own.append("%s (%s)" % (m.group(1), m.group(2)))
+        first = False
+    return own
+
+
+def classify(log):
+    """(problems, notes): lists of (headline, record text)."""
+    problems, notes = [], []
+    for rec in records(log):
+        head = rec[0]
+        text = "\n      ".join(rec[:24])
+        if re.match(r"^(Invalid (read|write|free)|Mismatched free|Source and destination overlap|"
+                     r"Argument '.*' of function .* has a fishy value|Jump to the invalid address|"
+                     r"Process terminating with default action)", head):
+            problems.append((head, text))
+        elif "uninitialised" in head or "unaddressable" in head:
+            (problems if own_frames(rec) else notes).append((head, text))
+        elif "definitely lost in loss record" in head:
+            (problems if own_frames(rec) else notes).append((head, text))
+        elif re.match(r"^\d[\d,]* bytes in [\d,]+ blocks are (possibly|indirectly) lost", head):
+            notes.append((head, text))
+    return problems, notes
+
+
+def valgrind_case(i, name, args, want_rc):
+    out = os.path.join(W, "out%d" % i)
+    shutil.rmtree(out, ignore_errors=True)
+    logf = os.path.join(W, "valgrind%d.log" % i)
+    cmd = ["valgrind", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
+           "--show-leak-kinds=definite", "--suppressions=" + SUPP, "--num-callers=50", "--track-origins=yes",
+           "--fullpath-after=" + os.path.join(SRC, ""), "--log-file=" + logf,
+           EXE] + args + ["-output_dir", out, "-contact_monitor", "0"]
+    t0 = time.time()
+    try:
+        p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, errors="replace", timeout=TIMEOUT, env=env())
+        rc, so, se = p.returncode, p.stdout, p.stderr
+    except subprocess.TimeoutExpired:
+        rc, so, se = None, "", ""
+    dt = time.time() - t0
+    log = open(logf, errors="replace").read() if os.path.exists(logf) else ""
+    return dict(name=name, cmd=cmd, rc=rc, want=want_rc, stdout=so, stderr=se, log=log, logf=logf, time=dt, out=out)
+
+
+def check_valgrind(r):
+    what = "valgrind: %s" % r["name"]
+    cmdline = " ".join(r["cmd"])
+    if r["rc"] is None:
+        report(False, what, "no exit within %d s -- %s" % (TIMEOUT, cmdline))
+        return
+    if "ERROR SUMMARY" not in r["log"]:
+        report(False, what, "valgrind did not finish its report (exit %d) -- %s\n%s" % (r["rc"], cmdline, r["log"][-2000:]))
+        return
+    problems, notes = classify(r["log"])
+    lines = [l for l in r["stderr"].splitlines() if l.strip()]
+    bad = []
+    # with --error-exitcode=99 valgrind replaces the program's exit code when it
+    # reports anything; then only library notes may be the reason
+    if r["rc"] == 99:
+        if not (problems or notes):
+            bad.append("valgrind exit 99 without a record this test understands (see %s)" % r["logf"])
+    elif r["rc"] != r["want"]:
+        bad.append("exit code %d (want %d)" % (r["rc"], r["want"]))
+    if r["want"] == 1:
+        if len(lines) != 1 or not lines[0].startswith(PREFIX):
+            bad.append("stderr is not one '%s' line: %r" % (PREFIX.strip(), r["stderr"][-600:]))
+    elif lines:
+        bad.append("stderr not empty: %r" % r["stderr"][-600:])
+    if r["want"] == 0 and r["rc"] in (0, 99):
+        files = os.listdir(r["out"]) if os.path.isdir(r["out"]) else []
+        if not any(f.endswith(".vtu") for f in files):
+            bad.append("no output written in %s" % r["out"])
+    summary = re.findall(r"ERROR SUMMARY: (\d+) errors from (\d+) contexts \(suppressed: (\d+)", r["log"])
+    lost = re.findall(r"definitely lost: ([\d,]+) bytes in ([\d,]+) blocks", r["log"])
+    info = "%.0f s, exit %d, %s errors (%s suppressed), definitely lost %s bytes" % (
+        r["time"], r["rc"], summary[-1][0] if summary else "?", summary[-1][2] if summary else "?",
+        lost[-1][0] if lost else "0")
+    if notes:
+        info += "; %d library-only report(s) not counted:\n    %s" % (len(notes), "\n    ".join(n[0] for n in notes))
+    for head, text in problems:
+        bad.append(text)
+    if bad:
+        report(False, what, "%s\n    command: %s\n    log: %s\n    %s" % (info, cmdline, r["logf"], "\n    ".join(bad)))
+    else:
+        report(True, what, info)
+
+
+# ---------------------------------------------------------------- PETSc malloc checks
+UNFREED = re.compile(r"^\s*\[\s*\d+\]\s*(?:Total space allocated|Maximum memory|\d+ bytes \S+)|unfreed|"
+                     r"Memory (?:leak|still allocated)", re.I | re.M)
+
+
+def malloc_case(name, args):
+    what = "-malloc_debug -malloc_dump: %s" % name
+    out = os.path.join(W, "malloc_out")
+    shutil.rmtree(out, ignore_errors=True)
+    cmd = [EXE] + args + ["-output_dir", out, "-contact_monitor", "0", "-malloc_debug", "-malloc_dump"]
+    t0 = time.time()
+    try:
+        p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, errors="replace", timeout=TIMEOUT, env=env())
+    except subprocess.TimeoutExpired:
+        report(False, what, "no exit within %d s -- %s" % (TIMEOUT, " ".join(cmd)))
+        return
+    leaks = [l for l in (p.stdout + "\n" + p.stderr).splitlines() if UNFREED.search(l)]
+    bad = []
+    if p.returncode != 0:
+        bad.append("exit code %d (want 0); stderr: %s" % (p.returncode, p.stderr[-800:]))
+    if p.stderr.strip():
+        bad.append("stderr not empty: %r" % p.stderr[-800:])
+    if leaks:
+        bad.append("PETSc reports %d unfreed block(s):\n      %s" % (len(leaks), "\n      ".join(leaks[:20])))
+    detail = "%.1f s, exit %d" % (time.time() - t0, p.returncode)
+    if bad:
+        report(False, what, "%s\n    command: %s\n    %s" % (detail, " ".join(cmd), "\n    ".join(bad)))
+    else:
+        report(True, what, detail + ", nothing unfreed")
+
+
+def main():
+    if shutil.which("valgrind") is None:
+        report(False, "valgrind is installed", "valgrind not found on PATH (tools/setup.sh installs it)")
+        print("%d passed, %d failed" % (passed, failed))
+        return 1
+    if not os.path.exists(EXE):
+        report(False, "executable %s exists" % EXE, "build first, or set M2D_EXE")
+        print("%d passed, %d failed" % (passed, failed))
+        return 1
+    if not os.path.exists(SUPP):
+        report(False, "suppression file %s exists" % SUPP)
+    t0 = time.time()
+    with ThreadPoolExecutor(max_workers=ARGS.jobs) as pool:
+        futs = [pool.submit(valgrind_case, i, n, a, rc) for i, (n, a, rc) in enumerate(CASES)]
+        for f in futs:
+            check_valgrind(f.result())
+    malloc_case("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform")])
+    malloc_case("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")])
+    print("total %.0f s" % (time.time() - t0))
+    print("%d passed, %d failed" % (passed, failed))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
