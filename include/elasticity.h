@@ -13,10 +13,13 @@
 void M2dMaterialMatrix(PetscReal E, PetscReal nu, PlaneMode plane, PetscReal D[9]);
 /* shape function values and x,y-derivatives at (xi, eta); returns det J */
 PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal N[4], PetscReal dN[8]);
-/* element stiffness (8x8 row major, dofs [u0x u0y u1x ...]), 2x2 Gauss */
-void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscReal Ke[64]);
-/* area-averaged stress [sxx, syy, sxy] of the element */
-void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], const PetscReal ue[8], PetscReal sig[3]);
+/* element stiffness (8x8 row major, dofs [u0x u0y u1x ...]), 2x2 Gauss; with
+ * sri the part lam m m^T of D (m = [1 1 0]) is integrated at the centre only */
+void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, PetscReal Ke[64]);
+/* area-averaged stress [sxx, syy, sxy] of the element (same split with sri) */
+void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, const PetscReal ue[8], PetscReal sig[3]);
+/* the lambda of D's split D = lam m m^T + rest (plane stress: 2 lam mu / (lam + 2 mu)) */
+PetscReal M2dLambda(PetscReal E, PetscReal nu, PlaneMode plane);
 
 /* assemble K and the load vector f (edge loads, body force of the MMS) */
 PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f);

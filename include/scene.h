@@ -55,6 +55,7 @@ typedef struct {
   PetscInt    nbody; /* 0 = every physical surface is a body */
   Body        body[M2D_MAX_BODIES];
   PlaneMode   plane;
+  PetscBool   sri; /* selective reduced integration of the volumetric (lambda) part */
   PetscInt    ndir;
   DirichletBC dir[M2D_MAX_BC];
   PetscInt    nload;

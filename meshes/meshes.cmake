@@ -48,4 +48,14 @@ foreach(l 0 1 2 3 4)
 endforeach()
 # S2 with an initial gap of 0.01 between the bodies
 m2d_mesh(patch_gap patch_uniform.geo gap 0.01)
+# S4 hard cases: interface ratios, inclined interface, matching and sliver
+# interfaces, initial penetration
+m2d_mesh(patch_2_20 patch_uniform.geo nu 2 nl 20)
+m2d_mesh(patch_20_2 patch_uniform.geo nu 20 nl 2)
+m2d_mesh(patch_1_30 patch_uniform.geo nu 1 nl 30)
+m2d_mesh(patch_30_1 patch_uniform.geo nu 30 nl 1)
+m2d_mesh(patch_incl30 patch_uniform.geo angle 30)
+m2d_mesh(patch_match patch_uniform.geo nu 10 nl 10)
+m2d_mesh(patch_sliver patch_uniform.geo nu 10 nl 10 shift 1e-13)
+m2d_mesh(patch_pen patch_uniform.geo gap -0.01)
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})

@@ -6,7 +6,8 @@
 // `angle` degrees (counter-clockwise).
 //   gmsh -2 -format msh41 -setnumber angle 30 patch_uniform.geo -o patch.msh
 //   gmsh -2 -format msh41 -setnumber body 1 patch_uniform.geo -o lower.msh
-// `gap` lifts the upper body by that much (before the rotation): an initial gap.
+// `gap` lifts the upper body by that much (before the rotation): an initial gap
+// (negative: an initial penetration). `shift` moves the upper body along x.
 DefineConstant[
   nl    = {10, Min 1, Step 1, Name "Parameters/nl"},
   nu    = {7,  Min 1, Step 1, Name "Parameters/nu"},
@@ -14,7 +15,8 @@ DefineConstant[
   body  = {0,  Choices {0 = "both", 1 = "lower only", 2 = "upper only"},
            Name "Parameters/body"},
   angle = {0,  Name "Parameters/angle"},
-  gap   = {0,  Name "Parameters/gap"}
+  gap   = {0,  Name "Parameters/gap"},
+  shift = {0,  Name "Parameters/shift"}
 ];
 
 Mesh.SaveAll = 0;
@@ -47,16 +49,19 @@ If (body != 2)
   Physical Curve("lower_top", 13) = {3};
   Physical Curve("lower_left", 14) = {4};
   Physical Point("lower_origin", 31) = {1};
+  Physical Point("lower_corner2", 33) = {2};
 EndIf
 
 If (body != 1)
   // ---------------- upper body ----------------
   y0 = 0.5 + gap;
   y1 = 1.0 + gap;
-  Point(11) = {-sa * y0,          ca * y0,           0};
-  Point(12) = {ca * 1 - sa * y0,  sa * 1 + ca * y0,  0};
-  Point(13) = {ca * 1 - sa * y1,  sa * 1 + ca * y1,  0};
-  Point(14) = {-sa * y1,          ca * y1,           0};
+  x0 = shift;
+  x1 = 1 + shift;
+  Point(11) = {ca * x0 - sa * y0, sa * x0 + ca * y0, 0};
+  Point(12) = {ca * x1 - sa * y0, sa * x1 + ca * y0, 0};
+  Point(13) = {ca * x1 - sa * y1, sa * x1 + ca * y1, 0};
+  Point(14) = {ca * x0 - sa * y1, sa * x0 + ca * y1, 0};
   Line(11) = {11, 12};  // bottom (contact)
   Line(12) = {12, 13};  // right
   Line(13) = {13, 14};  // top

@@ -11,7 +11,8 @@ typedef struct {
   Vec        u, lam, gm, tol; /* gm = C u - r = -g~ */
   Vec        active, used;    /* mask at the current iterate, and the one the last Jacobian used */
   PetscInt   nactive, entered, left, cycles, maxcycles;
-  PetscReal  fnorm0;
+  PetscReal  fnorm0, fnorm_prev;
+  PetscBool  unchanged_before;
   PetscInt   nhist;
   uint64_t   hist[1024];
   PetscInt   histn[1024];
@@ -162,7 +163,8 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
   PetscCall(SNESGetIterationNumber(snes, &it));
   /* cycling: the set returns to one seen two or more steps ago */
   PetscCall(ActiveHash(x, &h));
-  for (PetscInt k = 0; k + 1 < x->nhist; k++)
+  /* (an unchanged set is not a cycle: the last entry is the previous step's set) */
+  for (PetscInt k = 0; k + 1 < x->nhist && !(x->hist[x->nhist - 1] == h && x->histn[x->nhist - 1] == x->nactive); k++)
     if (x->hist[k] == h && x->histn[k] == x->nactive) {
       x->cycles++;
       if (x->cycles > x->maxcycles) {
@@ -200,8 +202,14 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   if (x->cycling_failed) *reason = SNES_DIVERGED_LOCAL_MIN;
   else if (PetscIsInfOrNanReal(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
   else if ((it > 0 || x->nactive == 0) && x->entered + x->left == 0 && (fnorm <= atol || fnorm <= rtol * x->fnorm0)) *reason = it > 0 ? SNES_CONVERGED_FNORM_RELATIVE : SNES_CONVERGED_FNORM_ABS;
-  else if (it > 0 && fnorm <= atol && x->entered + x->left == 0) *reason = SNES_CONVERGED_FNORM_ABS;
+  else if (it > 1 && x->entered + x->left == 0 && x->unchanged_before && fnorm >= 0.5 * x->fnorm_prev) {
+    /* the same set solved twice and the residual no longer falls: round-off floor
+     * of an ill-conditioned system (e.g. nu -> 0.5); the answer is as exact as it gets */
+    *reason = SNES_CONVERGED_SNORM_RELATIVE;
+  }
   else if (it >= maxit) *reason = SNES_DIVERGED_MAX_IT;
+  x->unchanged_before = (PetscBool)(it > 0 && x->entered + x->left == 0);
+  x->fnorm_prev       = fnorm;
   PetscFunctionReturn(0);
 }
 

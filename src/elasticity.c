@@ -46,44 +46,90 @@ PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal 
   return det;
 }
 
-void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscReal Ke[64])
+PetscReal M2dLambda(PetscReal E, PetscReal nu, PlaneMode plane)
 {
+  PetscReal mu = E / (2 * (1 + nu)), lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+  return plane == PLANE_STRAIN ? lam : 2 * lam * mu / (lam + 2 * mu);
+}
+
+/* B (3x8) at one point from the shape-function derivatives */
+static void FillB(const PetscReal dN[8], PetscReal B[3][8])
+{
+  memset(B, 0, 24 * sizeof(PetscReal));
+  for (int a = 0; a < 4; a++) {
+    B[0][2 * a]     = dN[2 * a];
+    B[1][2 * a + 1] = dN[2 * a + 1];
+    B[2][2 * a]     = dN[2 * a + 1];
+    B[2][2 * a + 1] = dN[2 * a];
+  }
+}
+
+static void AddBtDB(PetscReal Ke[64], PetscReal w, const PetscReal B[3][8], const PetscReal D[9])
+{
+  PetscReal DB[3][8];
+  for (int r = 0; r < 3; r++)
+    for (int k = 0; k < 8; k++) DB[r][k] = D[3 * r] * B[0][k] + D[3 * r + 1] * B[1][k] + D[3 * r + 2] * B[2][k];
+  for (int k = 0; k < 8; k++)
+    for (int l = 0; l < 8; l++) Ke[8 * k + l] += w * (B[0][k] * DB[0][l] + B[1][k] * DB[1][l] + B[2][k] * DB[2][l]);
+}
+
+/* D = Dl + Dr with Dl = lam m m^T: sri integrates Dl at the centre (weight 4) */
+static void SplitD(const PetscReal D[9], PetscBool sri, PetscReal lam, PetscReal Dr[9], PetscReal Dl[9])
+{
+  memcpy(Dr, D, 9 * sizeof(PetscReal));
+  memset(Dl, 0, 9 * sizeof(PetscReal));
+  if (!sri) return;
+  Dl[0] = Dl[1] = Dl[3] = Dl[4] = lam;
+  for (int k = 0; k < 9; k++) Dr[k] -= Dl[k];
+}
+
+void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, PetscReal Ke[64])
+{
+  PetscReal Dr[9], Dl[9], N[4], dN[8], B[3][8];
+  SplitD(D, sri, lam, Dr, Dl);
   memset(Ke, 0, 64 * sizeof(PetscReal));
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) {
-      PetscReal N[4], dN[8], B[3][8], DB[3][8];
       PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
-      memset(B, 0, sizeof(B));
-      for (int a = 0; a < 4; a++) {
-        B[0][2 * a]     = dN[2 * a];
-        B[1][2 * a + 1] = dN[2 * a + 1];
-        B[2][2 * a]     = dN[2 * a + 1];
-        B[2][2 * a + 1] = dN[2 * a];
-      }
-      for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 8; k++) DB[r][k] = D[3 * r] * B[0][k] + D[3 * r + 1] * B[1][k] + D[3 * r + 2] * B[2][k];
-      for (int k = 0; k < 8; k++)
-        for (int l = 0; l < 8; l++) Ke[8 * k + l] += w * (B[0][k] * DB[0][l] + B[1][k] * DB[1][l] + B[2][k] * DB[2][l]);
+      FillB(dN, B);
+      AddBtDB(Ke, w, B, Dr);
     }
+  if (sri) {
+    PetscReal w = 4 * Q4Shape(xy, 0, 0, N, dN);
+    FillB(dN, B);
+    AddBtDB(Ke, w, B, Dl);
+  }
 }
 
-void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], const PetscReal ue[8], PetscReal sig[3])
+static void Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
 {
-  PetscReal area = 0;
+  eps[0] = eps[1] = eps[2] = 0;
+  for (int a = 0; a < 4; a++) {
+    eps[0] += dN[2 * a] * ue[2 * a];
+    eps[1] += dN[2 * a + 1] * ue[2 * a + 1];
+    eps[2] += dN[2 * a + 1] * ue[2 * a] + dN[2 * a] * ue[2 * a + 1];
+  }
+}
+
+void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, const PetscReal ue[8], PetscReal sig[3])
+{
+  PetscReal area = 0, Dr[9], Dl[9], N[4], dN[8], eps[3];
+  SplitD(D, sri, lam, Dr, Dl);
   sig[0] = sig[1] = sig[2] = 0;
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) {
-      PetscReal N[4], dN[8], eps[3] = {0, 0, 0};
       PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
-      for (int a = 0; a < 4; a++) {
-        eps[0] += dN[2 * a] * ue[2 * a];
-        eps[1] += dN[2 * a + 1] * ue[2 * a + 1];
-        eps[2] += dN[2 * a + 1] * ue[2 * a] + dN[2 * a] * ue[2 * a + 1];
-      }
-      for (int r = 0; r < 3; r++) sig[r] += w * (D[3 * r] * eps[0] + D[3 * r + 1] * eps[1] + D[3 * r + 2] * eps[2]);
+      Strain(dN, ue, eps);
+      for (int r = 0; r < 3; r++) sig[r] += w * (Dr[3 * r] * eps[0] + Dr[3 * r + 1] * eps[1] + Dr[3 * r + 2] * eps[2]);
       area += w;
     }
   for (int r = 0; r < 3; r++) sig[r] /= area;
+  if (sri) { /* the lambda part from the centre strain, as in the stiffness */
+    Q4Shape(xy, 0, 0, N, dN);
+    Strain(dN, ue, eps);
+    sig[0] += lam * (eps[0] + eps[1]);
+    sig[1] += lam * (eps[0] + eps[1]);
+  }
 }
 
 /* ---------- manufactured solution ----------
@@ -254,10 +300,13 @@ PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
   Vec                cl, fl;
   const PetscScalar *ca;
   PetscScalar       *fa;
-  PetscReal          D[M2D_MAX_BODIES][9];
+  PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < s->nbody; b++) M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+    lam[b] = M2dLambda(s->body[b].E, s->body[b].nu, s->plane);
+  }
   PetscCall(DMGetLocalSection(m->dm, &lsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
@@ -270,7 +319,7 @@ PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
     PetscInt    idx[8];
     PetscInt    b = m->cellbody[c - m->cStart];
     MeshCellCoordinates(m, ca, cs, c, xy);
-    Q4Stiffness(xy, D[b], Ke);
+    Q4Stiffness(xy, D[b], s->sri, lam[b], Ke);
     PetscCall(CellDofs(m, lsec, c, idx));
     PetscCall(MatSetValuesLocal(K, 8, idx, 8, idx, Ke, ADD_VALUES));
     if (s->exact == EXACT_MMS) { /* body force, 3x3 Gauss */
@@ -399,10 +448,13 @@ PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscR
   PetscSection       lsec, cs;
   Vec                cl, ul;
   const PetscScalar *ca, *ua;
-  PetscReal          D[M2D_MAX_BODIES][9];
+  PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < s->nbody; b++) M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+    lam[b] = M2dLambda(s->body[b].E, s->body[b].nu, s->plane);
+  }
   PetscCall(DMGetLocalSection(m->dm, &lsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
@@ -416,7 +468,7 @@ PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscR
     MeshCellCoordinates(m, ca, cs, c, xy);
     PetscCall(CellDofs(m, lsec, c, idx));
     for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ua[idx[k]]);
-    Q4AverageStress(xy, D[b], ue, sig);
+    Q4AverageStress(xy, D[b], s->sri, lam[b], ue, sig);
     sz     = s->plane == PLANE_STRAIN ? s->body[b].nu * (sig[0] + sig[1]) : 0.0;
     out[0] = sig[0];
     out[1] = sig[1];

@@ -7,6 +7,7 @@
  * loads, Dirichlet rows, KKT system), Solve (KSP from the options database,
  * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, CSV, summary). */
 #include "activeset.h"
+#include "supports.h"
 #include "contact.h"
 #include "elasticity.h"
 #include "mesh.h"
@@ -190,6 +191,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(PetscObjectSetName((PetscObject)u, "displacement"));
   PetscCall(ElasticityAssemble(&m, &s, K, f));
   PetscCall(ElasticityDirichletRows(&m, &s, &ndir, &drows, &dvals));
+  PetscCall(CheckRigidModes(&m, &s, has_contact ? &contact : NULL, ndir, drows));
   PetscCall(ElasticityApplyDirichlet(K, f, u, ndir, drows, dvals));
   if (has_contact) {
     if (s.unilateral && s.condensed) {

@@ -115,6 +115,13 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   else if (!strcmp(plane, "stress")) s->plane = PLANE_STRESS;
   else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -plane: unknown value '%s' (expected strain or stress)", plane);
 
+  {
+    char integ[32] = "full";
+    PetscCall(PetscOptionsString("-q4_integration", "Q4 stiffness integration: full (2x2 Gauss; locks as nu -> 0.5 in plane strain) or sri (selective reduced: the lambda part at 1 point, cures volumetric locking)", "", integ, integ, sizeof(integ), NULL));
+    if (!strcmp(integ, "full")) s->sri = PETSC_FALSE;
+    else if (!strcmp(integ, "sri")) s->sri = PETSC_TRUE;
+    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -q4_integration: unknown value '%s' (expected full or sri)", integ);
+  }
   PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
   PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY] on a physical curve, p = P + GX x + GY y (p > 0 pushes into the body), comma separated; default: none", &pres, &npres));
   PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
