@@ -25,7 +25,7 @@ int main(int argc, char **argv)
   M2dMaterialMatrix(200.0, 0.3, PLANE_STRESS, D);
   CHECK(PetscAbsReal(D[0] - 200.0 / 0.91) < 1e-12 && PetscAbsReal(D[1] - 60.0 / 0.91) < 1e-12, "plane stress D");
   M2dMaterialMatrix(200.0, 0.3, PLANE_STRAIN, D);
-  Q4Stiffness(xy, D, Ke);
+  Q4Stiffness(xy, D, PETSC_FALSE, 0, Ke);
   for (int i = 0; i < 64; i++) scale = PetscMax(scale, PetscAbsReal(Ke[i]));
   for (int i = 0; i < 8; i++)
     for (int j = 0; j < 8; j++) sym = PetscMax(sym, PetscAbsReal(Ke[8 * i + j] - Ke[8 * j + i]));
@@ -52,7 +52,7 @@ int main(int argc, char **argv)
       ue[2 * k]     = a * xy[2 * k] + b * xy[2 * k + 1];
       ue[2 * k + 1] = c * xy[2 * k] + d * xy[2 * k + 1];
     }
-    Q4AverageStress(xy, D, ue, sig);
+    Q4AverageStress(xy, D, PETSC_FALSE, 0, ue, sig);
     for (int r = 0; r < 3; r++) {
       ex[r] = D[3 * r] * eps[0] + D[3 * r + 1] * eps[1] + D[3 * r + 2] * eps[2];
       err   = PetscMax(err, PetscAbsReal(sig[r] - ex[r]) / PetscAbsReal(ex[0]));
