@@ -168,7 +168,7 @@ PetscErrorCode ContactDestroy(Contact *c)
 PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
 {
   XYIdx    *o;
-  PetscReal inv = 0, Es, P = s->hertz_load, R = s->hertz_radius, num = 0, den = 0;
+  PetscReal *px, inv = 0, Es, P = s->hertz_load, R = s->hertz_radius, num = 0, den = 0;
   PetscInt  n = c->R.n, last = -1;
   const int ns = 3000;
 
@@ -186,8 +186,16 @@ PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
     o[j].j = j;
   }
   qsort(o, (size_t)n, sizeof(XYIdx), CmpXY);
+  /* the multiplier is force per unit length of the non-mortar surface; Hertz's
+   * p(x) is per unit x: p_x = lambda ds/dx = lambda / |n_y| (n: the node's normal) */
+  PetscCall(PetscMalloc1(n + 1, &px));
+  for (PetscInt j = 0; j < n; j++) {
+    PetscReal nn[2];
+    SurfaceNodeNormal(&c->nm, c->R.node[j], nn);
+    px[j] = c->pressure[j] / PetscMax(PetscAbsReal(nn[1]), PETSC_SMALL);
+  }
   for (PetscInt k = 0; k < n; k++) {
-    h->peak_pressure = PetscMax(h->peak_pressure, c->pressure[o[k].j]);
+    h->peak_pressure = PetscMax(h->peak_pressure, px[o[k].j]);
     if (c->active[o[k].j] != 0) last = k;
   }
   if (last >= 0) {
@@ -200,16 +208,17 @@ PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
     PetscReal x = (i + 0.5) * 1.5 * h->a / ns, ph = 0, pe = x < h->a ? h->p0 * PetscSqrtReal(1 - x * x / (h->a * h->a)) : 0;
     PetscInt  k = 0;
     while (k + 1 < n && o[k + 1].x < x) k++;
-    if (n == 1) ph = c->pressure[o[0].j];
-    else if (x <= o[0].x) ph = c->pressure[o[0].j];
+    if (n == 1) ph = px[o[0].j];
+    else if (x <= o[0].x) ph = px[o[0].j];
     else if (k + 1 < n) {
       PetscReal t = (x - o[k].x) / (o[k + 1].x - o[k].x);
-      ph          = (1 - t) * c->pressure[o[k].j] + t * c->pressure[o[k + 1].j];
+      ph          = (1 - t) * px[o[k].j] + t * px[o[k + 1].j];
     }
     num += (ph - pe) * (ph - pe);
     den += pe * pe;
   }
   h->pressure_l2_rel = PetscSqrtReal(num / den);
   PetscCall(PetscFree(o));
+  PetscCall(PetscFree(px));
   PetscFunctionReturn(0);
 }

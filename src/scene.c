@@ -20,7 +20,7 @@ static PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const ch
   PetscCall(PetscOptionsGetString(NULL, prefix, name, buf, sizeof(buf), &set));
   if (set) {
     double v = strtod(buf, &end);
-    PetscCheck(end != buf && *end == 0 && PetscIsNormalReal((PetscReal)v + 1.0), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%s%s: '%s' is not a finite number", prefix ? prefix : "", name + 1, buf);
+    PetscCheck(end != buf && *end == 0 && !PetscIsInfOrNanReal((PetscReal)v), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%s%s: '%s' is not a finite number", prefix ? prefix : "", name + 1, buf);
   }
   PetscCall(PetscOptionsReal(name, help, "", def, value, NULL));
   PetscFunctionReturn(0);

@@ -12,6 +12,8 @@ docs/hertz_convergence.png  from <runs>/hertz_study.csv (tools/hertz_study.py),
                             if present: left, the pressure error against Hertz
                             on [0, 1.5a]; right, the pressure and displacement
                             errors against the finest level of the same method;
+                            grey: the error of Hertz's exact pressure joined
+                            linearly between the level's nodes (no solver error);
                             all against dofs, log-log, with h and h^2 slopes
                             (h ~ dofs^-1/2).
 
@@ -61,7 +63,8 @@ def plot_pressure(runs, levels, path):
                            gridspec_kw={"height_ratios": [2.2, 1]})
     xe = np.linspace(0, 1.5 * a, 1501)
     pe = p0 * np.sqrt(np.clip(1 - xe ** 2 / a ** 2, 0, None))
-    colors = plt.cm.viridis(np.linspace(0.0, 0.8, len(levels))) if len(levels) > 1 else ["C0"]
+    palette = ["#d95f02", "#1f77b4", "#2ca02c", "#7b3294", "#e7298a", "#8c564b"]
+    colors = [palette[i % len(palette)] for i in range(len(levels))] if len(levels) > 1 else ["C0"]
     markers = "osD^v<>"
     dev_max = 0.0
     for j, m in enumerate(METHODS):
@@ -73,7 +76,7 @@ def plot_pressure(runs, levels, path):
             keep = x <= 1.5 * a * (1 + 1e-9)
             # one node beyond 1.5a so the line reaches the axis edge
             k = min(int(keep.sum()) + 1, len(x))
-            ms = max(2.0, 6.0 - 1.0 * i) if len(levels) > 1 else 5
+            ms = max(2.5, 6.5 - 1.5 * i) if len(levels) > 1 else 5
             top.plot(x[:k] / a, p[:k], "-", marker=markers[i % len(markers)], ms=ms, lw=1.1,
                      color=colors[i], mfc="none" if len(levels) > 1 else colors[i], zorder=2 + i,
                      label="level %d: %d dofs, %d active, $h_c$ = %.2g a, error %.2g%%"
@@ -121,6 +124,9 @@ def plot_convergence(csvpath, path):
         alld += list(d)
         eh = np.array([float(r["err_hertz"]) for r in rr])
         ax[0].loglog(d, eh, "-", ms=7, label="p vs Hertz, " + m, **style[m])
+        if m == METHODS[0] and "err_interp_hertz" in rr[0]:
+            ax[0].loglog(d, [float(r["err_interp_hertz"]) for r in rr], "-", color="0.55", marker="x",
+                         ms=7, lw=1.2, label="Hertz joined linearly between the nodes (no solver error)", zorder=0)
         for r, di, ei in zip(rr, d, eh):
             ax[0].annotate(r["level"], (di, ei), textcoords="offset points", xytext=(4, 4),
                            fontsize=7, color=style[m]["color"])
