@@ -18,6 +18,7 @@ typedef struct {
   PetscInt  cStart, cEnd, eStart, eEnd, vStart, vEnd;
   PetscInt *cellverts; /* 4 vertex points per local cell, counter-clockwise */
   PetscInt *cellbody;  /* body index per local cell */
+  PetscBool *edgeghost; /* per local edge: owned by another rank (skip when integrating) */
   PetscInt  ngroup;
   char      group[M2D_MAX_GROUPS][M2D_NAME_LEN];
   PetscInt  groupdim[M2D_MAX_GROUPS];

@@ -156,6 +156,15 @@ static void MMSBodyForce(const Scene *s, const Body *b, PetscReal x, PetscReal y
   f[1] = -(mu * (uy_xx + uy_yy) + (lam + mu) * (ux_xy + uy_yy));
 }
 
+/* D and the lambda of the split, per body */
+static void BodyMaterials(const Scene *s, PetscReal D[][9], PetscReal lam[])
+{
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
+    lam[b] = M2dLambda(s->body[b].E, s->body[b].nu, s->plane);
+  }
+}
+
 static PetscErrorCode CellDofs(const Mesh *m, PetscSection lsec, PetscInt c, PetscInt idx[8])
 {
   PetscFunctionBeginUser;
@@ -170,18 +179,7 @@ static PetscErrorCode CellDofs(const Mesh *m, PetscSection lsec, PetscInt c, Pet
 
 static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscScalar *ca, PetscSection cs, PetscSection lsec, PetscScalar *fl)
 {
-  PetscSF         sf;
-  PetscInt        nleaves;
-  const PetscInt *leaves;
-  PetscBool      *ghost;
-  PetscInt        pStart, pEnd;
-
   PetscFunctionBeginUser;
-  PetscCall(DMGetPointSF(m->dm, &sf));
-  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
-  PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
-  PetscCall(PetscCalloc1(pEnd - pStart, &ghost));
-  for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) ghost[(leaves ? leaves[i] : i) - pStart] = PETSC_TRUE;
   for (PetscInt l = 0; l < s->nload; l++) {
     const EdgeLoad *ld  = &s->load[l];
     const char     *opt = ld->is_pressure ? "-pressure" : "-traction";
@@ -196,7 +194,7 @@ static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscSca
       PetscInt        e = pts[i], nsupp, ncone, c, offa, offb, la, lb;
       const PetscInt *supp, *cone;
       PetscReal       xa[2], xb[2], t[2], nrm[2], len, cx = 0, cy = 0, xy[8];
-      if (e < m->eStart || e >= m->eEnd || ghost[e - pStart]) continue;
+      if (e < m->eStart || e >= m->eEnd || m->edgeghost[e - m->eStart]) continue;
       PetscCall(DMPlexGetSupportSize(m->dm, e, &nsupp));
       PetscCall(DMPlexGetSupport(m->dm, e, &supp));
       PetscCall(DMPlexGetConeSize(m->dm, e, &ncone));
@@ -243,28 +241,20 @@ static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscSca
     PetscCall(ISRestoreIndices(is, &pts));
     PetscCall(ISDestroy(&is));
   }
-  PetscCall(PetscFree(ghost));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, PetscReal *R)
 {
-  PetscSF            sf;
-  PetscInt           nleaves, n, pStart, pEnd;
-  const PetscInt    *leaves, *pts;
+  PetscInt           n;
+  const PetscInt    *pts;
   PetscSection       cs;
   Vec                cl;
   const PetscScalar *ca;
   IS                 is;
   PetscReal          sum = 0;
-  PetscBool         *ghost;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetPointSF(m->dm, &sf));
-  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
-  PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
-  PetscCall(PetscCalloc1(pEnd - pStart, &ghost));
-  for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) ghost[(leaves ? leaves[i] : i) - pStart] = PETSC_TRUE;
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
   PetscCall(VecGetArrayRead(cl, &ca));
@@ -275,7 +265,7 @@ PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, Pet
     const PetscInt *cone;
     PetscInt        oa, ob;
     PetscReal       xa[2], xb[2], len;
-    if (pts[i] < m->eStart || pts[i] >= m->eEnd || ghost[pts[i] - pStart]) continue;
+    if (pts[i] < m->eStart || pts[i] >= m->eEnd || m->edgeghost[pts[i] - m->eStart]) continue;
     PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
     PetscCall(PetscSectionGetOffset(cs, cone[0], &oa));
     PetscCall(PetscSectionGetOffset(cs, cone[1], &ob));
@@ -289,7 +279,6 @@ PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, Pet
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(PetscFree(ghost));
   PetscCallMPI(MPI_Allreduce(&sum, R, 1, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   PetscFunctionReturn(0);
 }
@@ -303,10 +292,7 @@ PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
   PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < s->nbody; b++) {
-    M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
-    lam[b] = M2dLambda(s->body[b].E, s->body[b].nu, s->plane);
-  }
+  BodyMaterials(s, D, lam);
   PetscCall(DMGetLocalSection(m->dm, &lsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
@@ -451,10 +437,7 @@ PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscR
   PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < s->nbody; b++) {
-    M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
-    lam[b] = M2dLambda(s->body[b].E, s->body[b].nu, s->plane);
-  }
+  BodyMaterials(s, D, lam);
   PetscCall(DMGetLocalSection(m->dm, &lsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));

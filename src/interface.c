@@ -85,10 +85,7 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   IS                 is;
   const PetscInt    *pts;
-  PetscInt           n, nloc = 0, pStart, pEnd, nleaves, nedge, nnode = 0, *edge, *gdof;
-  const PetscInt    *leaves;
-  PetscSF            sf;
-  PetscBool         *ghost;
+  PetscInt           n, nloc = 0, nedge, nnode = 0, *edge, *gdof;
   PetscSection       gsec, cs;
   Vec                cl;
   const PetscScalar *ca;
@@ -101,11 +98,6 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(MeshGetGroupIS(m, group, option, &is));
   PetscCheck(MeshGroupDim(m, group) == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", option, group);
-  PetscCall(DMGetPointSF(m->dm, &sf));
-  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
-  PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
-  PetscCall(PetscCalloc1(pEnd - pStart, &ghost));
-  for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) ghost[(leaves ? leaves[i] : i) - pStart] = PETSC_TRUE;
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
@@ -117,7 +109,7 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
     PetscInt        e = pts[i], c, v[2], off[2], g[2];
     const PetscInt *cone, *supp;
     PetscReal       xy[8], cx = 0, cy = 0, xa[2], xb[2];
-    if (e < m->eStart || e >= m->eEnd || ghost[e - pStart]) continue;
+    if (e < m->eStart || e >= m->eEnd || m->edgeghost[e - m->eStart]) continue;
     PetscCall(DMPlexGetCone(m->dm, e, &cone));
     PetscCall(DMPlexGetSupport(m->dm, e, &supp));
     c = supp[0];
@@ -160,7 +152,6 @@ PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *optio
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(PetscFree(ghost));
   /* all ranks get every edge */
   PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
   nrec = (PetscMPIInt)(7 * nloc);

@@ -1,5 +1,6 @@
 /* mesh.c - read, validate and merge the gmsh bodies into one DMPlex (see mesh.h). */
 #include "mesh.h"
+#include <petscsf.h>
 #include "msh.h"
 #include "util.h"
 #include <string.h>
@@ -311,6 +312,19 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
       PetscCall(DMLabelGetValue(body, c, &m->cellbody[c - m->cStart]));
     }
   }
+  /* edges owned by another rank (leaves of the point SF) */
+  {
+    PetscSF         sf;
+    PetscInt        nleaves;
+    const PetscInt *leaves;
+    PetscCall(DMGetPointSF(dm, &sf));
+    PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, &leaves, NULL));
+    PetscCall(PetscCalloc1(m->eEnd - m->eStart + 1, &m->edgeghost));
+    for (PetscInt i = 0; i < nleaves && nleaves > 0; i++) {
+      PetscInt p = leaves ? leaves[i] : i;
+      if (p >= m->eStart && p < m->eEnd) m->edgeghost[p - m->eStart] = PETSC_TRUE;
+    }
+  }
   /* displacement dofs: 2 per vertex */
   {
     PetscSection sec;
@@ -365,6 +379,7 @@ PetscErrorCode MeshDestroy(Mesh *m)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree2(m->cellverts, m->cellbody));
+  PetscCall(PetscFree(m->edgeghost));
   PetscCall(DMDestroy(&m->dm));
   PetscFunctionReturn(0);
 }

@@ -7,16 +7,7 @@
  *  - the NTS row of a node. */
 #include "mortar.h"
 
-static int failures;
-#define CHECK(c, ...) \
-  do { \
-    if (!(c)) { \
-      failures++; \
-      printf("FAIL "); \
-    } else printf("ok   "); \
-    printf(__VA_ARGS__); \
-    printf("\n"); \
-  } while (0)
+#include "check.h"
 
 /* value of row j at global dof col (0 if absent) */
 static PetscReal RowVal(const ContactRows *R, PetscInt j, PetscInt col)

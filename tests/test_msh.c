@@ -7,16 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-static int failures;
-#define CHECK(c, ...) \
-  do { \
-    if (!(c)) { \
-      failures++; \
-      printf("FAIL "); \
-    } else printf("ok   "); \
-    printf(__VA_ARGS__); \
-    printf("\n"); \
-  } while (0)
+#include "check.h"
 
 /* two quads side by side, node tags 10,20,...; a physical curve and a point */
 static const char *m41 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n0 3 \"pin\"\n1 2 \"bottom\"\n2 1 \"body\"\n$EndPhysicalNames\n"

@@ -3,16 +3,7 @@
  * and the material matrices. */
 #include "elasticity.h"
 
-static int failures;
-#define CHECK(c, ...) \
-  do { \
-    if (!(c)) { \
-      failures++; \
-      printf("FAIL "); \
-    } else printf("ok   "); \
-    printf(__VA_ARGS__); \
-    printf("\n"); \
-  } while (0)
+#include "check.h"
 
 int main(int argc, char **argv)
 {
