@@ -26,6 +26,7 @@ typedef struct {
   Mat       Kblk;  /* the (u,u) block: K, or K + gamma CA^T CA */
   Mat       CtCA;  /* CA^T CA (augmentation only) */
   Mat       Ct, Z, nest, A; /* Z: (lambda,lambda) block; A: operator for the KSP (nest or aij) */
+  Mat       A0;             /* aij with every row active, unscaled: A is updated from it */
   IS        isu, isl;       /* u and lambda in the global numbering of A */
   Vec       b, x;
   PetscReal gamma;          /* applied augmentation weight (scaled) */

@@ -165,7 +165,35 @@ PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale)
   }
   PetscCall(MatAssemblyBegin(kkt->nest, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->nest, MAT_FINAL_ASSEMBLY));
-  if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_REUSE_MATRIX, &kkt->A));
+  if (kkt->aij && kkt->gamma == 0) {
+    /* update the monolithic matrix in place: a MatConvert would change its
+     * nonzero state on several ranks and make MUMPS redo its analysis */
+    const PetscInt    *il;
+    const PetscScalar *av;
+    PetscInt           nl, na = 0, *rowsA;
+    Vec                sv, sl;
+    if (!kkt->A0) PetscCall(MatDuplicate(kkt->A, MAT_COPY_VALUES, &kkt->A0));
+    PetscCall(MatCopy(kkt->A0, kkt->A, SAME_NONZERO_PATTERN));
+    PetscCall(VecDuplicate(kkt->b, &sv));
+    PetscCall(VecDuplicate(kkt->r, &sl));
+    PetscCall(VecSet(sv, 1.0));
+    PetscCall(VecSet(sl, scale));
+    PetscCall(VecISCopy(sv, kkt->isl, SCATTER_FORWARD, sl));
+    PetscCall(MatDiagonalScale(kkt->A, sv, NULL));
+    PetscCall(VecDestroy(&sv));
+    PetscCall(VecDestroy(&sl));
+    PetscCall(ISGetLocalSize(kkt->isl, &nl));
+    PetscCall(ISGetIndices(kkt->isl, &il));
+    PetscCall(PetscMalloc1(nl + 1, &rowsA));
+    PetscCall(VecGetArrayRead(active, &av));
+    for (PetscInt j = 0; j < nl; j++)
+      if (PetscRealPart(av[j]) == 0) rowsA[na++] = il[j];
+    PetscCall(VecRestoreArrayRead(active, &av));
+    PetscCall(ISRestoreIndices(kkt->isl, &il));
+    PetscCall(MatSetOption(kkt->A, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+    PetscCall(MatZeroRows(kkt->A, na, rowsA, -scale / c, NULL, NULL));
+    PetscCall(PetscFree(rowsA));
+  } else if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_REUSE_MATRIX, &kkt->A));
   PetscFunctionReturn(0);
 }
 
@@ -203,6 +231,7 @@ PetscErrorCode KKTDestroy(KKT *kkt)
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&kkt->C));
   PetscCall(MatDestroy(&kkt->CA));
+  PetscCall(MatDestroy(&kkt->A0));
   PetscCall(MatDestroy(&kkt->CtCA));
   PetscCall(MatDestroy(&kkt->K));
   PetscCall(VecDestroy(&kkt->f));
