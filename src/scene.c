@@ -26,6 +26,26 @@ static PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const ch
   PetscFunctionReturn(0);
 }
 
+/* a string option with a fixed set of values: *index is the default on entry,
+ * the chosen value on return; anything else is an error naming the option */
+static PetscErrorCode OptionsChoice(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const choices[], PetscInt n, PetscInt *index)
+{
+  char buf[64], list[256] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(buf, choices[*index], sizeof(buf)));
+  PetscCall(PetscOptionsString(name, help, "", buf, buf, sizeof(buf), NULL));
+  for (PetscInt i = 0; i < n; i++) {
+    if (!strcmp(buf, choices[i])) {
+      *index = i;
+      PetscFunctionReturn(0);
+    }
+    PetscCall(PetscStrlcat(list, i ? "|" : "", sizeof(list)));
+    PetscCall(PetscStrlcat(list, choices[i], sizeof(list)));
+  }
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown value '%s' (expected %s)", name, buf, list);
+}
+
 static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *text, PetscReal *v)
 {
   char *end;
@@ -74,7 +94,6 @@ static PetscErrorCode FreeList(char **e, PetscInt n)
 
 PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
 {
-  char      plane[32] = "strain", exact[32] = "none", method[32] = "mortar", kktmat[32] = "aij";
   char     *mesh[3]   = {NULL, NULL, NULL};
   char     *bodies[M2D_MAX_BODIES + 1];
   char    **dir, **pres, **trac;
@@ -110,19 +129,19 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     PetscCall(PetscFree(bodies[i]));
     for (PetscInt j = 0; j < i; j++) PetscCheck(strcmp(s->body[i].name, s->body[j].name), comm, PETSC_ERR_USER_INPUT, "option -bodies: '%s' is listed twice", s->body[i].name);
   }
-  PetscCall(PetscOptionsString("-plane", "plane strain or plane stress: strain|stress", "", plane, plane, sizeof(plane), NULL));
-  if (!strcmp(plane, "strain")) s->plane = PLANE_STRAIN;
-  else if (!strcmp(plane, "stress")) s->plane = PLANE_STRESS;
-  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -plane: unknown value '%s' (expected strain or stress)", plane);
+  {
+    const char *const planes[] = {"strain", "stress"}; /* order of PlaneMode */
+    PetscInt          k        = PLANE_STRAIN;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-plane", "plane strain or plane stress: strain|stress", planes, 2, &k));
+    s->plane = (PlaneMode)k;
+  }
 
   {
-    char integ[32] = "full";
-    PetscCall(PetscOptionsString("-q4_integration", "Q4 stiffness integration: full (2x2 Gauss; locks as nu -> 0.5 in plane strain) or sri (selective reduced: the lambda part at 1 point, cures volumetric locking)", "", integ, integ, sizeof(integ), NULL));
-    if (!strcmp(integ, "full")) s->sri = PETSC_FALSE;
-    else if (!strcmp(integ, "sri")) s->sri = PETSC_TRUE;
-    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -q4_integration: unknown value '%s' (expected full or sri)", integ);
-  }
-  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
+    const char *const integ[] = {"full", "sri"};
+    PetscInt          k       = 0;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-q4_integration", "Q4 stiffness integration: full (2x2 Gauss; locks as nu -> 0.5 in plane strain) or sri (selective reduced: the lambda part at 1 point, cures volumetric locking)", integ, 2, &k));
+    s->sri = (PetscBool)(k == 1);
+  }  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
   PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY] on a physical curve, p = P + GX x + GY y (p > 0 pushes into the body), comma separated; default: none", &pres, &npres));
   PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
   for (PetscInt i = 0; i < ndir; i++) {
@@ -173,20 +192,23 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(FreeList(pres, npres));
   PetscCall(FreeList(trac, ntrac));
 
-  PetscCall(PetscOptionsString("-exact", "exact solution to compare with: none|uniform|mms (uniform: sigma_yy = -p of the first -pressure, sigma_xx = sigma_xy = 0)", "", exact, exact, sizeof(exact), NULL));
-  if (!strcmp(exact, "none")) s->exact = EXACT_NONE;
-  else if (!strcmp(exact, "uniform")) s->exact = EXACT_UNIFORM;
-  else if (!strcmp(exact, "mms")) s->exact = EXACT_MMS;
-  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -exact: unknown value '%s' (expected none, uniform or mms)", exact);
+  {
+    const char *const exact[] = {"none", "uniform", "mms"}; /* order of ExactKind */
+    PetscInt          k       = EXACT_NONE;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-exact", "exact solution to compare with: none|uniform|mms (uniform: sigma_yy = -p of the first -pressure, sigma_xx = sigma_xy = 0)", exact, 3, &k));
+    s->exact = (ExactKind)k;
+  }
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-exact_p", "exact -sigma_yy for -exact uniform (<= 0: the first -pressure)", s->exact_p, &s->exact_p));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", s->mms_amplitude, &s->mms_amplitude));
   PetscCall(PetscOptionsString("-contact_nonmortar", "physical curve of the non-mortar contact surface (carries the multipliers); empty: no contact", "", s->contact_nm, s->contact_nm, sizeof(s->contact_nm), NULL));
   PetscCall(PetscOptionsString("-contact_mortar", "physical curve of the mortar contact surface", "", s->contact_m, s->contact_m, sizeof(s->contact_m), NULL));
   PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
-  PetscCall(PetscOptionsString("-contact_method", "contact discretisation: mortar|nts", "", method, method, sizeof(method), NULL));
-  if (!strcmp(method, "mortar")) s->method = CONTACT_MORTAR;
-  else if (!strcmp(method, "nts")) s->method = CONTACT_NTS;
-  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_method: unknown value '%s' (expected mortar or nts)", method);
+  {
+    const char *const methods[] = {"mortar", "nts"}; /* order of ContactMethod */
+    PetscInt          k         = CONTACT_MORTAR;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-contact_method", "contact discretisation: mortar|nts", methods, 2, &k));
+    s->method = (ContactMethod)k;
+  }
   s->unilateral      = PETSC_TRUE;
   s->contact_monitor = PETSC_TRUE;
   s->hertz_radius    = 1.0;
@@ -194,37 +216,31 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsBool("-contact_unilateral", "unilateral contact (active set through SNES); false: every candidate node stays closed (tied, one linear solve)", "", s->unilateral, &s->unilateral, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_c", "complementarity parameter c of the active-set test lambda/c >= gap (<= 0: E*/h^2 from the materials and the non-mortar edge length)", s->contact_c, &s->contact_c));
   {
-    char init[32] = "closest";
-    PetscCall(PetscOptionsString("-contact_initial", "first active set: gap (nodes whose initial gap is closed), closest (the nodes with the smallest initial gap: a body held only by contact is held from the start), all (every candidate)", "", init, init, sizeof(init), NULL));
-    if (!strcmp(init, "gap")) s->contact_initial = 0;
-    else if (!strcmp(init, "closest")) s->contact_initial = 1;
-    else if (!strcmp(init, "all")) s->contact_initial = 2;
-    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -contact_initial: unknown value '%s' (expected gap, closest or all)", init);
-  }
-  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
+    const char *const init[] = {"gap", "closest", "all"};
+    s->contact_initial       = 1;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-contact_initial", "first active set: gap (nodes whose initial gap is closed), closest (the nodes with the smallest initial gap: a body held only by contact is held from the start), all (every candidate)", init, 3, &s->contact_initial));
+  }  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
   PetscCall(PetscOptionsBool("-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain) and report it", "", s->hertz, &s->hertz, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_radius", "cylinder radius R for -hertz", s->hertz_radius, &s->hertz_radius));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the resultant of the first -pressure, as for the quarter model)", s->hertz_load, &s->hertz_load));
   {
-    char basis[32] = "standard";
-    PetscCall(PetscOptionsString("-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", "", basis, basis, sizeof(basis), NULL));
-    if (!strcmp(basis, "standard")) s->basis = 0;
-    else if (!strcmp(basis, "dual")) s->basis = 1;
-    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -mortar_basis: unknown value '%s' (expected standard or dual)", basis);
-  }
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
-  PetscCall(PetscOptionsString("-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", "", kktmat, kktmat, sizeof(kktmat), NULL));
-  if (!strcmp(kktmat, "aij")) s->kkt_mat = KKT_AIJ;
-  else if (!strcmp(kktmat, "nest")) s->kkt_mat = KKT_NEST;
-  else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_mat: unknown value '%s' (expected aij or nest)", kktmat);
+    const char *const basis[] = {"standard", "dual"}; /* order of MortarBasis */
+    PetscInt          k       = 0;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", basis, 2, &k));
+    s->basis = (int)k;
+  }  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
   {
-    char path[32] = "condensed";
-    PetscCall(PetscOptionsString("-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; each step a dense n_lambda solve) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", "", path, path, sizeof(path), NULL));
-    if (!strcmp(path, "condensed")) s->condensed = PETSC_TRUE;
-    else if (!strcmp(path, "full")) s->condensed = PETSC_FALSE;
-    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -kkt_path: unknown value '%s' (expected condensed or full)", path);
+    const char *const mats[] = {"aij", "nest"}; /* order of KKTMatType */
+    PetscInt          k      = KKT_AIJ;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
+    s->kkt_mat = (KKTMatType)k;
   }
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
+  {
+    const char *const paths[] = {"full", "condensed"};
+    PetscInt          k       = 1;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; each step a dense n_lambda solve) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
+    s->condensed = (PetscBool)(k == 1);
+  }  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
   PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
