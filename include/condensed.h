@@ -29,7 +29,7 @@ typedef struct {
 } Condensed;
 
 /* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
-PetscErrorCode CondensedCreate(KKT *kkt, Condensed *cs);
+PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs);
 PetscErrorCode CondensedSetActive(Condensed *cs, Vec active, PetscReal c, PetscReal s);
 PetscErrorCode CondensedApply(Condensed *cs, Vec b, Vec x);
 PetscErrorCode CondensedDestroy(Condensed *cs);

@@ -3,6 +3,7 @@
 #ifndef M2D_SCENE_H
 #define M2D_SCENE_H
 #include <petscsys.h>
+#include "ordering.h"
 
 #define M2D_MAX_BODIES 8
 #define M2D_MAX_BC     32
@@ -77,6 +78,7 @@ typedef struct {
   KKTMatType    kkt_mat;
   PetscBool     condensed;   /* active set: factor once with a Schur complement (condensed.h) */
   PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
+  M2dOrdering   kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
   char        outdir[PETSC_MAX_PATH_LEN];
   char        outname[M2D_NAME_LEN];
   char        summary[PETSC_MAX_PATH_LEN];

@@ -312,11 +312,12 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
   }
   PetscCall(KKTSetupKSP(kkt, ksp));
+  PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering));
   if (s->condensed && !x.vi) {
     PC pc;
     PetscCheck(kkt->aij && kkt->gamma > 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
     PetscCall(PetscNew(&x.cond));
-    PetscCall(CondensedCreate(kkt, x.cond));
+    PetscCall(CondensedCreate(kkt, s->kkt_ordering, x.cond));
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCSHELL));

@@ -1,11 +1,11 @@
 /* condensed.c - factor once with a MUMPS Schur complement (see condensed.h). */
 #include "condensed.h"
 
-PetscErrorCode CondensedCreate(KKT *kkt, Condensed *cs)
+PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
 {
   MPI_Comm      comm = PetscObjectComm((PetscObject)kkt->A);
-  PetscMPIInt   rank;
-  IS            isS;
+  PetscMPIInt   rank, size;
+  IS            isS, perm = NULL;
   MatFactorInfo info;
   Vec           all;
   VecScatter    sc;
@@ -18,6 +18,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, Condensed *cs)
   PetscCheck(kkt->gamma > 0 && kkt->aij, comm, PETSC_ERR_PLIB, "condensed path needs the augmented monolithic KKT matrix");
   cs->kkt = kkt;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
   /* the multipliers' indices in A's numbering, all on rank 0 (MUMPS' centralised Schur) */
   {
     Vec li;
@@ -51,7 +52,9 @@ PetscErrorCode CondensedCreate(KKT *kkt, Condensed *cs)
   PetscCall(MatGetFactor(kkt->A, MATSOLVERMUMPS, MAT_FACTOR_LU, &cs->F));
   PetscCall(MatFactorSetSchurIS(cs->F, isS));
   PetscCall(MatFactorInfoInitialize(&info));
-  PetscCall(MatLUFactorSymbolic(cs->F, kkt->A, NULL, NULL, &info));
+  if (ord == M2D_ORDERING_METIS && size == 1) PetscCall(M2dOrderingMetis(kkt->A, isS, &perm));
+  PetscCall(MatLUFactorSymbolic(cs->F, kkt->A, perm, perm, &info));
+  PetscCall(ISDestroy(&perm));
   PetscCall(MatLUFactorNumeric(cs->F, kkt->A, &info));
   PetscCall(MatFactorGetError(cs->F, &ferr));
   PetscCheck(ferr == MAT_FACTOR_NOERROR, comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");

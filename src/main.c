@@ -104,7 +104,7 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
 }
 
 /* defaults: a direct solve with MUMPS; -ksp_type/-pc_type override */
-static PetscErrorCode SetupSolver(KSP ksp)
+static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
 {
   PC pc;
 
@@ -114,6 +114,7 @@ static PetscErrorCode SetupSolver(KSP ksp)
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(KSPSetFromOptions(ksp));
+  PetscCall(M2dOrderingSetupKSP(ksp, ord));
   PetscFunctionReturn(0);
 }
 
@@ -155,7 +156,7 @@ static PetscErrorCode Run(MPI_Comm comm)
     }
     PetscCall(SceneReadMaterials(comm, &s));
     PetscCall(KSPCreate(comm, &ksp));
-    PetscCall(SetupSolver(ksp));
+    PetscCall(SetupSolver(ksp, s.kkt_ordering));
     PetscCall(KSPDestroy(&ksp));
     PetscFunctionReturn(0);
   }
@@ -226,7 +227,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   } else {
     if (has_contact) PetscCall(KSPSetOperators(ksp, kkt.A, kkt.A));
     else PetscCall(KSPSetOperators(ksp, K, K));
-    PetscCall(SetupSolver(ksp));
+    PetscCall(SetupSolver(ksp, s.kkt_ordering));
     if (has_contact) {
       PetscCall(KKTSetupKSP(&kkt, ksp));
       PetscCall(KKTSolve(&kkt, ksp, u, lam));

@@ -1,0 +1,28 @@
+/* ordering.h - a METIS nested-dissection ordering handed to MUMPS
+ * (-kkt_ordering metis).
+ *
+ * Debian's MUMPS 5.5 has neither METIS nor SCOTCH inside (ICNTL(7) = 3 or 5
+ * falls back to PORD), and when a Schur complement is requested it analyses
+ * with AMD whatever ICNTL(7) says. Here libmetis orders the graph of the matrix
+ * (consecutive rows with the same closed neighbourhood, the two dofs of a node,
+ * become one weighted vertex) and MUMPS gets the result as its PERM_IN
+ * (ICNTL(7) = 1), with the Schur variables, if any, last.
+ *
+ * The IS holds, for each row i, its position in the pivot order: MUMPS'
+ * PERM_IN(i) - 1, which is what PETSc 3.18 forwards (perm_in[i] = idx[i] + 1).
+ * One rank only: in parallel PETSc 3.18 hands MUMPS a distributed matrix and
+ * no permutation. */
+#ifndef M2D_ORDERING_H
+#define M2D_ORDERING_H
+#include <petscksp.h>
+
+typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS } M2dOrdering;
+#define MATORDERINGM2DMETIS "m2d_metis"
+
+/* pivot positions of the rows of the sequential AIJ matrix A; the rows in
+ * `last` (may be NULL) come last, in the order of `last` */
+PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos);
+/* on one rank with PCLU + MUMPS and ord == METIS: the PC's factorization gets
+ * the METIS ordering (registered as the MatOrdering "m2d_metis"); else nothing */
+PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord);
+#endif
