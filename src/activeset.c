@@ -18,17 +18,9 @@ typedef struct {
   PetscInt   histn[1024];
   PetscBool  cycling_failed;
   Condensed *cond; /* fast path, or NULL */
+  PetscBool  reduced; /* fast path on one rank: the SNES unknown is nu (condensed.h) */
+  Vec        cu;      /* reduced: C u(nu) */
 } Ctx;
-
-static PetscErrorCode CondensedPCApply(PC pc, Vec b, Vec x)
-{
-  Condensed *cs;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(CondensedApply(cs, b, x));
-  PetscFunctionReturn(0);
-}
 
 PetscReal ActiveSetDefaultC(const Scene *s, const Contact *ct)
 {
@@ -149,17 +141,13 @@ static PetscErrorCode ActiveHash(Ctx *x, uint64_t *h)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
+/* the active set of the next step: the current mask, unless it cycles */
+static PetscErrorCode ChooseSet(SNES snes, Ctx *x)
 {
-  Ctx     *x = (Ctx *)ctx;
   uint64_t h;
   PetscInt it;
 
   PetscFunctionBeginUser;
-  (void)z;
-  (void)J;
-  (void)P;
-  if (x->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
   PetscCall(SNESGetIterationNumber(snes, &it));
   /* cycling: the set returns to one seen two or more steps ago */
   PetscCall(ActiveHash(x, &h));
@@ -182,8 +170,119 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
     x->histn[x->nhist++] = x->nactive;
   }
   PetscCall(VecCopy(x->active, x->used));
-  if (x->cond) PetscCall(CondensedSetActive(x->cond, x->active, x->c, x->c * x->h));
-  else PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
+{
+  Ctx *x = (Ctx *)ctx;
+
+  PetscFunctionBeginUser;
+  (void)z;
+  (void)J;
+  (void)P;
+  if (x->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
+  PetscCall(ChooseSet(snes, x));
+  PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
+  PetscFunctionReturn(0);
+}
+
+/* reduced iteration: F(nu) = c h max(-lambda/c, C u - r) with C u = w + S0 nu and
+ * lambda = nu + g C u (condensed.h); the u rows hold for every nu */
+static PetscErrorCode ReducedFunction(SNES snes, Vec nu, Vec F, void *ctx)
+{
+  Ctx               *x = (Ctx *)ctx;
+  const PetscScalar *v, *cu, *r;
+  PetscScalar       *l, *g, *f;
+  PetscInt           n;
+  PetscReal          gam = x->kkt->gamma;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(CondensedReducedGaps(x->cond, nu, x->cu));
+  PetscCall(VecGetLocalSize(nu, &n));
+  PetscCall(VecGetArrayRead(nu, &v));
+  PetscCall(VecGetArrayRead(x->cu, &cu));
+  PetscCall(VecGetArrayRead(x->kkt->r, &r));
+  PetscCall(VecGetArray(x->lam, &l));
+  PetscCall(VecGetArray(x->gm, &g));
+  for (PetscInt j = 0; j < n; j++) {
+    g[j] = cu[j] - r[j];
+    l[j] = v[j] + gam * cu[j];
+  }
+  PetscCall(VecRestoreArray(x->gm, &g));
+  PetscCall(VecRestoreArray(x->lam, &l));
+  PetscCall(VecRestoreArrayRead(x->kkt->r, &r));
+  PetscCall(VecRestoreArrayRead(x->cu, &cu));
+  PetscCall(VecRestoreArrayRead(nu, &v));
+  PetscCall(UpdateMask(x));
+  PetscCall(VecGetArray(x->lam, &l));
+  PetscCall(VecGetArray(x->gm, &g));
+  PetscCall(VecGetArray(F, &f));
+  for (PetscInt j = 0; j < n; j++) f[j] = x->c * x->h * PetscMax(-PetscRealPart(l[j]) / x->c, PetscRealPart(g[j]));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArray(x->gm, &g));
+  PetscCall(VecRestoreArray(x->lam, &l));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReducedJacobian(SNES snes, Vec nu, Mat J, Mat P, void *ctx)
+{
+  Ctx *x = (Ctx *)ctx;
+
+  PetscFunctionBeginUser;
+  (void)nu;
+  (void)P;
+  PetscCall(ChooseSet(snes, x));
+  PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, J));
+  PetscFunctionReturn(0);
+}
+
+/* Reduced iteration: w, then the first step as the full path takes it - the set
+ * of (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
+ * set's linear piece at nu = 0. The SNES starts from nu0. */
+static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec *nu, Mat *J)
+{
+  KKT               *kkt = x->kkt;
+  Vec                F0, F;
+  Mat                Jf;
+  PetscInt           n, N;
+  const PetscScalar *w, *r, *a;
+  PetscScalar       *f;
+  MatFactorInfo      info;
+
+  PetscFunctionBeginUser;
+  PetscCall(CondensedReducedSetup(x->cond));
+  PetscCall(VecDuplicate(kkt->r, &x->cu));
+  PetscCall(VecDuplicate(kkt->r, nu));
+  PetscCall(VecDuplicate(kkt->r, &F0));
+  PetscCall(VecGetLocalSize(kkt->r, &n));
+  PetscCall(VecGetSize(kkt->r, &N));
+  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, J));
+  PetscCall(VecCopy(kkt->r, x->gm));
+  PetscCall(VecScale(x->gm, -1.0)); /* C u - r at u = 0; x->lam holds lambda0 */
+  PetscCall(UpdateMask(x));
+  PetscCall(ChooseSet(snes, x));
+  PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, *J));
+  PetscCall(VecGetArrayRead(x->cond->w, &w));
+  PetscCall(VecGetArrayRead(kkt->r, &r));
+  PetscCall(VecGetArrayRead(x->active, &a));
+  PetscCall(VecGetArray(F0, &f));
+  for (PetscInt j = 0; j < n; j++) f[j] = PetscRealPart(a[j]) != 0 ? -x->c * x->h * (w[j] - r[j]) : x->h * kkt->gamma * w[j];
+  PetscCall(VecRestoreArray(F0, &f));
+  PetscCall(VecRestoreArrayRead(x->active, &a));
+  PetscCall(VecRestoreArrayRead(kkt->r, &r));
+  PetscCall(VecRestoreArrayRead(x->cond->w, &w));
+  PetscCall(MatDuplicate(*J, MAT_COPY_VALUES, &Jf));
+  PetscCall(MatFactorInfoInitialize(&info));
+  PetscCall(MatLUFactor(Jf, NULL, NULL, &info));
+  PetscCall(MatSolve(Jf, F0, *nu));
+  PetscCall(MatDestroy(&Jf));
+  PetscCall(VecDestroy(&F0));
+  PetscCall(VecDuplicate(kkt->r, &F));
+  PetscCall(SNESSetFunction(snes, F, ReducedFunction, x));
+  PetscCall(VecDestroy(&F));
+  PetscCall(SNESSetJacobian(snes, *J, *J, ReducedJacobian, x));
   PetscFunctionReturn(0);
 }
 
@@ -225,6 +324,10 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
     PetscFunctionReturn(0);
   }
   PetscCall(SNESGetFunction(snes, &F, NULL, NULL));
+  if (x->reduced) { /* the u rows hold by construction (round-off: see the final line) */
+    nu = 0;
+    nl = fnorm;
+  } else {
   PetscCall(VecISCopy(F, x->kkt->isu, SCATTER_REVERSE, x->u));
   PetscCall(VecNorm(x->u, NORM_2, &nu));
   {
@@ -240,6 +343,8 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
     PetscCall(SNESGetSolution(snes, &z));
     PetscCall(VecISCopy(z, x->kkt->isu, SCATTER_REVERSE, x->u));
   }
+  }
+  it += x->reduced; /* the reduced iteration's first set was solved before the SNES */
   if (it == 0) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " active (initial guess)         |F| %.3e  |F_u| %.3e  |F_lambda| %.3e\n", it, x->nactive, (double)fnorm, (double)nu, (double)nl));
   else PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " active (+%" PetscInt_FMT " entered, -%" PetscInt_FMT " left)  |F| %.3e  |F_u| %.3e  |F_lambda| %.3e\n", it, x->nactive, x->entered, x->left, (double)fnorm, (double)nu, (double)nl));
   if (x->vi) PetscCall(VecCopy(x->active, x->used)); /* the VI solver has no Jacobian hook of ours */
@@ -255,6 +360,8 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   Vec                 z, F;
   SNESConvergedReason reason;
   PetscReal           L;
+  Vec                 nu = NULL;
+  Mat                 Jr = NULL;
 
   PetscFunctionBeginUser;
   (void)m;
@@ -268,6 +375,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   x.h /= PetscMax(1, ct->nm.nedge);
   PetscCall(VecDuplicate(u, &x.u));
   PetscCall(VecDuplicate(lam, &x.lam));
+  PetscCall(VecZeroEntries(x.lam));
   PetscCall(VecDuplicate(lam, &x.gm));
   PetscCall(VecDuplicate(lam, &x.tol));
   PetscCall(VecDuplicate(lam, &x.used));
@@ -312,20 +420,22 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
   }
   PetscCall(KKTSetupKSP(kkt, ksp));
-  PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering));
   if (s->condensed && !x.vi) {
-    PC pc;
-    PetscCheck(kkt->aij && kkt->gamma > 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
+    PC          pc;
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(comm, &size));
+    PetscCheck(kkt->aij && kkt->gamma > 0 && size == 1, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs one rank and -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
     PetscCall(PetscNew(&x.cond));
     PetscCall(CondensedCreate(kkt, s->kkt_ordering, x.cond));
+    x.reduced = PETSC_TRUE;
+    /* the SNES unknown is nu (n_lambda): its Jacobian is dense, LAPACK LU */
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCSetType(pc, PCSHELL));
-    PetscCall(PCShellSetContext(pc, x.cond));
-    PetscCall(PCShellSetApply(pc, CondensedPCApply));
-    PetscCall(PCShellSetName(pc, "condensed: MUMPS factor of K + g C^T C with a Schur complement on the multipliers"));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGNATURAL));
     info->factor_time = x.cond->factor_time;
-  }
+  } else PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering));
   PetscCall(VecDuplicate(kkt->x, &z));
   PetscCall(VecDuplicate(kkt->x, &F));
   PetscCall(VecZeroEntries(z));
@@ -374,12 +484,14 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCall(VecDestroy(&xl));
     PetscCall(VecDestroy(&xu));
   } else PetscCall(SNESSetConvergenceTest(snes, Converged, &x, NULL));
-  PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, FormJacobian, &x));
+  if (x.reduced) PetscCall(ReducedStart(snes, &x, &nu, &Jr));
+  else PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, FormJacobian, &x));
   PetscCall(SNESMonitorSet(snes, Monitor, &x, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", x.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", x.cond ? "K factored once (condensed)" : "KKT refactored each step (full)", (double)x.c, kkt->nlam));
-  PetscCall(SNESSolve(snes, NULL, z));
+  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", x.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", x.cond ? "K factored once, steps on the multipliers (condensed)" : "KKT refactored each step (full)", (double)x.c, kkt->nlam));
+  PetscCall(SNESSolve(snes, NULL, x.reduced ? nu : z));
   PetscCall(SNESGetConvergedReason(snes, &reason));
   PetscCall(SNESGetIterationNumber(snes, &info->iterations));
+  if (x.reduced) info->iterations++; /* the first set was solved before the SNES (ReducedStart) */
   info->cycles = x.cycles;
   info->c      = x.c;
   info->vi     = x.vi;
@@ -398,8 +510,31 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     }
     SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "active-set iteration failed: %s", SNESConvergedReasons[reason]);
   }
-  PetscCall(VecISCopy(z, kkt->isu, SCATTER_REVERSE, u));
-  PetscCall(VecISCopy(z, kkt->isl, SCATTER_REVERSE, lam));
+  if (x.reduced) { /* lambda from the last residual evaluation, u by one substitution */
+    PetscCall(CondensedRecover(x.cond, nu, u));
+    PetscCall(VecCopy(x.lam, lam));
+    if (x.monitor) { /* the u rows, which the reduced residual holds by construction */
+      Vec       Fu, la;
+      PetscReal nf, nff;
+      PetscCall(VecDuplicate(u, &Fu));
+      PetscCall(VecDuplicate(lam, &la));
+      PetscCall(VecPointwiseMult(la, lam, x.active));
+      PetscCall(MatMult(kkt->K, u, Fu));
+      PetscCall(MatMultAdd(kkt->Ct, la, Fu, Fu));
+      PetscCall(VecAXPY(Fu, -1.0, kkt->f));
+      PetscCall(VecNorm(Fu, NORM_2, &nf));
+      PetscCall(VecNorm(kkt->f, NORM_2, &nff));
+      PetscCall(PetscPrintf(comm, "  recovered u: |K u + C^T lambda - f| = %.3e (|f| = %.3e)\n", (double)nf, (double)nff));
+      PetscCall(VecDestroy(&Fu));
+      PetscCall(VecDestroy(&la));
+    }
+    PetscCall(VecDestroy(&nu));
+    PetscCall(MatDestroy(&Jr));
+    PetscCall(VecDestroy(&x.cu));
+  } else {
+    PetscCall(VecISCopy(z, kkt->isu, SCATTER_REVERSE, u));
+    PetscCall(VecISCopy(z, kkt->isl, SCATTER_REVERSE, lam));
+  }
   if (x.vi) { /* active = positive multiplier */
     PetscCall(VecCopy(lam, x.lam));
     PetscCall(UpdateMask(&x));

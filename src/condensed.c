@@ -1,4 +1,4 @@
-/* condensed.c - factor once with a MUMPS Schur complement (see condensed.h). */
+/* condensed.c - factor once with a MUMPS Schur complement; the reduced iteration's algebra (see condensed.h). */
 #include "condensed.h"
 
 PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
@@ -43,8 +43,8 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
       for (PetscInt j = 0; j < n; j++) idx[j] = (PetscInt)PetscRealPart(a[j]);
       PetscCall(VecRestoreArrayRead(all, &a));
     }
-    cs->tozero = sc;
-    cs->act0   = all;
+    PetscCall(VecScatterDestroy(&sc));
+    PetscCall(VecDestroy(&all));
     PetscCall(VecDestroy(&li));
   }
   PetscCall(ISCreateGeneral(comm, n, idx, PETSC_OWN_POINTER, &isS));
@@ -60,113 +60,111 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCheck(ferr == MAT_FACTOR_NOERROR, comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");
   cs->factor_time = MPI_Wtime() - t0;
   PetscCall(MatFactorCreateSchurComplement(cs->F, &cs->S0, NULL));
+  PetscCall(MatFactorFactorizeSchurComplement(cs->F)); /* every solve uses S0 */
   PetscCall(ISDestroy(&isS));
   PetscCall(VecDuplicate(kkt->r, &cs->bl));
-  PetscCall(VecDuplicate(kkt->r, &cs->dl));
-  PetscCall(VecDuplicate(kkt->r, &cs->t));
-  PetscCall(VecDuplicate(kkt->r, &cs->active));
   PetscCall(VecDuplicate(kkt->f, &cs->vu));
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));
   PetscCall(VecDuplicate(kkt->b, &cs->sol));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedSetActive(Condensed *cs, Vec active, PetscReal c, PetscReal s)
+PetscErrorCode CondensedReducedSetup(Condensed *cs)
 {
-  Mat S;
-  PetscMPIInt rank;
+  KKT *kkt = cs->kkt;
+  Vec  cu;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)active), &rank));
-  cs->c = c;
-  cs->s = s;
-  PetscCall(VecCopy(active, cs->active));
-  PetscCall(VecScatterBegin(cs->tozero, active, cs->act0, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(cs->tozero, active, cs->act0, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(MatFactorGetSchurComplement(cs->F, &S, NULL));
-  PetscCall(MatSetUnfactored(S)); /* it holds the LU factors of the previous step */
-  PetscCall(MatCopy(cs->S0, S, SAME_NONZERO_PATTERN));
-  if (rank == 0) {
-    const PetscScalar *a;
-    PetscInt           n;
-    PetscCall(VecGetSize(cs->act0, &n));
-    PetscCall(VecGetArrayRead(cs->act0, &a));
-    for (PetscInt j = 0; j < n; j++)
-      if (PetscRealPart(a[j]) == 0) PetscCall(MatSetValue(S, j, j, 1.0 / cs->kkt->gamma, ADD_VALUES));
-    PetscCall(VecRestoreArrayRead(cs->act0, &a));
-  }
-  PetscCall(MatAssemblyBegin(S, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(S, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatFactorRestoreSchurComplement(cs->F, &S, MAT_FACTOR_SCHUR_UNFACTORED));
-  PetscCall(MatFactorFactorizeSchurComplement(cs->F));
+  PetscCheck(cs->S0 && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: needs one rank and one setup");
+  /* M [u0; nu0] = [f; 0] */
+  PetscCall(VecZeroEntries(cs->rhs));
+  PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, kkt->f));
+  PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
+  /* C u0 = w + S0 nu0 (= 0 up to round-off) gives w = C u0 - S0 nu0 */
+  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, cs->vu));
+  PetscCall(VecISCopy(cs->sol, kkt->isl, SCATTER_REVERSE, cs->bl));
+  PetscCall(VecDuplicate(kkt->r, &cs->w));
+  PetscCall(VecZeroEntries(cs->w));
+  PetscCall(VecDuplicate(kkt->r, &cu));
+  PetscCall(CondensedReducedGaps(cs, cs->bl, cu)); /* S0 nu0 (w = 0 still) */
+  PetscCall(MatMult(kkt->C, cs->vu, cs->w));
+  PetscCall(VecAXPY(cs->w, -1.0, cu));
+  PetscCall(VecDestroy(&cu));
   PetscFunctionReturn(0);
 }
 
-/* x = J^-1 b for the active set of the last CondensedSetActive */
-PetscErrorCode CondensedApply(Condensed *cs, Vec b, Vec x)
+PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu)
 {
-  KKT               *kkt = cs->kkt;
-  const PetscScalar *a, *bl;
-  PetscScalar       *dl, *t;
-  PetscInt           n;
+  const PetscScalar *S, *v, *w;
+  PetscScalar       *y;
+  PetscInt           n, lda;
 
   PetscFunctionBeginUser;
-  PetscCall(VecISCopy(b, kkt->isl, SCATTER_REVERSE, cs->bl));
-  PetscCall(VecISCopy(b, kkt->isu, SCATTER_REVERSE, cs->vu));
-  /* inactive rows give dlambda_I directly; active rows the constraint right-hand side t_A */
-  PetscCall(VecGetLocalSize(cs->bl, &n));
-  PetscCall(VecGetArrayRead(cs->active, &a));
-  PetscCall(VecGetArrayRead(cs->bl, &bl));
-  PetscCall(VecGetArray(cs->dl, &dl));
-  PetscCall(VecGetArray(cs->t, &t));
-  for (PetscInt j = 0; j < n; j++) {
-    if (PetscRealPart(a[j]) != 0) {
-      dl[j] = 0;
-      t[j]  = bl[j] / cs->s;
-    } else {
-      dl[j] = -cs->c * bl[j] / cs->s;
-      t[j]  = 0;
-    }
-  }
-  PetscCall(VecRestoreArray(cs->t, &t));
-  PetscCall(VecRestoreArray(cs->dl, &dl));
-  PetscCall(VecRestoreArrayRead(cs->bl, &bl));
-  PetscCall(VecRestoreArrayRead(cs->active, &a));
-  /* b_u - C_I^T dlambda_I */
-  PetscCall(VecScale(cs->dl, -1.0));
-  PetscCall(MatMultAdd(kkt->Ct, cs->dl, cs->vu, cs->vu));
-  PetscCall(VecScale(cs->dl, -1.0));
-  PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, cs->vu));
-  PetscCall(VecISCopy(cs->rhs, kkt->isl, SCATTER_FORWARD, cs->t));
-  PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
-  /* du, and dlambda_A = nu_A + g t_A */
-  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, cs->vu));
-  PetscCall(VecISCopy(cs->sol, kkt->isl, SCATTER_REVERSE, cs->bl));
-  PetscCall(VecAXPY(cs->bl, kkt->gamma, cs->t));
-  PetscCall(VecGetArrayRead(cs->active, &a));
-  PetscCall(VecGetArray(cs->dl, &dl));
-  PetscCall(VecGetArrayRead(cs->bl, &bl));
+  PetscCall(VecGetLocalSize(nu, &n));
+  PetscCall(MatDenseGetLDA(cs->S0, &lda));
+  PetscCall(MatDenseGetArrayRead(cs->S0, &S));
+  PetscCall(VecGetArrayRead(nu, &v));
+  PetscCall(VecGetArrayRead(cs->w, &w));
+  PetscCall(VecGetArray(cu, &y));
+  for (PetscInt i = 0; i < n; i++) y[i] = w[i];
+  for (PetscInt j = 0; j < n; j++) /* column-major: y += S(:, j) v_j */
+    for (PetscInt i = 0; i < n; i++) y[i] += S[i + j * lda] * v[j];
+  PetscCall(VecRestoreArray(cu, &y));
+  PetscCall(VecRestoreArrayRead(cs->w, &w));
+  PetscCall(VecRestoreArrayRead(nu, &v));
+  PetscCall(MatDenseRestoreArrayRead(cs->S0, &S));
+  PetscCall(PetscLogFlops(2.0 * n * n));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, PetscReal h, Mat J)
+{
+  const PetscScalar *S, *a;
+  PetscScalar       *Jv;
+  PetscInt           n, lda, ldj;
+  PetscReal          g = cs->kkt->gamma;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(active, &n));
+  PetscCall(MatDenseGetLDA(cs->S0, &lda));
+  PetscCall(MatDenseGetLDA(J, &ldj));
+  PetscCall(MatDenseGetArrayRead(cs->S0, &S));
+  PetscCall(VecGetArrayRead(active, &a));
+  PetscCall(MatDenseGetArrayWrite(J, &Jv));
   for (PetscInt j = 0; j < n; j++)
-    if (PetscRealPart(a[j]) != 0) dl[j] = bl[j];
-  PetscCall(VecRestoreArrayRead(cs->bl, &bl));
-  PetscCall(VecRestoreArray(cs->dl, &dl));
-  PetscCall(VecRestoreArrayRead(cs->active, &a));
-  PetscCall(VecISCopy(x, kkt->isu, SCATTER_FORWARD, cs->vu));
-  PetscCall(VecISCopy(x, kkt->isl, SCATTER_FORWARD, cs->dl));
+    for (PetscInt i = 0; i < n; i++) Jv[i + j * ldj] = PetscRealPart(a[i]) != 0 ? c * h * S[i + j * lda] : -h * (g * S[i + j * lda] + (i == j ? 1.0 : 0.0));
+  PetscCall(MatDenseRestoreArrayWrite(J, &Jv));
+  PetscCall(VecRestoreArrayRead(active, &a));
+  PetscCall(MatDenseRestoreArrayRead(cs->S0, &S));
+  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
+{
+  KKT *kkt = cs->kkt;
+  Vec  cu;
+
+  PetscFunctionBeginUser;
+  /* M [u; nu'] = [f; C u(nu)] with the pristine S0 gives nu' = nu and u = u(nu) */
+  PetscCall(VecDuplicate(kkt->r, &cu));
+  PetscCall(CondensedReducedGaps(cs, nu, cu));
+  PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, kkt->f));
+  PetscCall(VecISCopy(cs->rhs, kkt->isl, SCATTER_FORWARD, cu));
+  PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
+  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, u));
+  PetscCall(VecDestroy(&cu));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedDestroy(Condensed *cs)
 {
   PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&cs->w));
   PetscCall(MatDestroy(&cs->F));
   PetscCall(MatDestroy(&cs->S0));
-  PetscCall(VecScatterDestroy(&cs->tozero));
-  PetscCall(VecDestroy(&cs->act0));
-  PetscCall(VecDestroy(&cs->active));
   PetscCall(VecDestroy(&cs->bl));
-  PetscCall(VecDestroy(&cs->dl));
-  PetscCall(VecDestroy(&cs->t));
   PetscCall(VecDestroy(&cs->vu));
   PetscCall(VecDestroy(&cs->rhs));
   PetscCall(VecDestroy(&cs->sol));

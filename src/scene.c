@@ -238,13 +238,13 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   {
     const char *const paths[] = {"full", "condensed"};
     PetscInt          k       = 1;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; each step a dense n_lambda solve) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; the steps run on the multipliers with dense n_lambda algebra, one rank) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
     s->condensed = (PetscBool)(k == 1);
   }
   {
     const char *const ords[] = {"mumps", "metis"}; /* order of M2dOrdering */
-    PetscInt          k      = M2D_ORDERING_MUMPS;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering of the MUMPS factorizations on one rank: mumps (MUMPS' own choice, -mat_mumps_icntl_7; AMD when a Schur complement is asked) or metis (libmetis nested dissection handed to MUMPS, Schur variables last)", ords, 2, &k));
+    PetscInt          k      = M2D_ORDERING_METIS;
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering of the MUMPS factorizations on one rank: metis (libmetis nested dissection handed to MUMPS, Schur variables last) or mumps (MUMPS' own choice, -mat_mumps_icntl_7: PORD, but AMD whenever a Schur complement is asked); 2 ranks: MUMPS' own", ords, 2, &k));
     s->kkt_ordering = (M2dOrdering)k;
   }  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);

@@ -138,8 +138,9 @@ for Eu in ("1e15", "1e3"):
             Eu, how, s["error"]["sigma_yy_max_rel"], s["error"]["sigma_xx_max_rel"], s["error"]["sigma_xy_max_rel"],
             s["contact_force"] / P - 1, body_errors(tag, P)))
     # E = 1e15 on a body that floats on the soft one: round-off floor ~ eps x contrast
-    # (see below), so that variant is held to 1e-8; the supported variant below to 1e-10
-    tol = TOL if Eu == "1e3" else 1e-8
+    # x O(100) (see below; 0.9e-8 .. 1.2e-8 depending on the BLAS and the solve path),
+    # so that variant is held to 3e-8; the supported variant below to 1e-10
+    tol = TOL if Eu == "1e3" else 3e-8
     check(s is not None and perr(s) < tol, "upper E = %s: patch test to %.0e (%s, %s)" % (Eu, tol, "%.2e" % perr(s) if s else "no result", how))
 # The stiff upper body rides on the soft one: it translates rigidly by the soft
 # body's compression (~4.6e-4) while its own strain is 1e-6 of that, so one ulp

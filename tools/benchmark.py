@@ -600,10 +600,11 @@ def has_kkt_ordering():
 def orderings(out, level, timeout):
     print("\n(f) MUMPS orderings at Hertz level %d, 1 rank (one run each, back-to-back; "
           "-mat_mumps_icntl_4 2 for the statistics)" % level)
-    ords = [("0 AMD", ["-mat_mumps_icntl_7", "0"]), ("2 AMF", ["-mat_mumps_icntl_7", "2"]),
-            ("4 PORD", ["-mat_mumps_icntl_7", "4"]), ("6 QAMD", ["-mat_mumps_icntl_7", "6"]),
-            ("7 auto", ["-mat_mumps_icntl_7", "7"]), ("3 SCOTCH*", ["-mat_mumps_icntl_7", "3"]),
-            ("5 METIS*", ["-mat_mumps_icntl_7", "5"])]
+    own = ["-kkt_ordering", "mumps", "-mat_mumps_icntl_7"]  # MUMPS' own orderings
+    ords = [("0 AMD", own + ["0"]), ("2 AMF", own + ["2"]),
+            ("4 PORD", own + ["4"]), ("6 QAMD", own + ["6"]),
+            ("7 auto", own + ["7"]), ("3 SCOTCH*", own + ["3"]),
+            ("5 METIS*", own + ["5"])]
     if has_kkt_ordering():
         ords.append(("kkt_ordering metis", ["-kkt_ordering", "metis"]))
         print("    -kkt_ordering is in the program's -help: included")

@@ -3,10 +3,13 @@
 # missing; quiet and fast when everything is there), then configure and build
 # under build/ (which also generates the .msh files from meshes/*.geo).
 # Works as root or with sudo. Set M2D_WERROR=1 to make warnings errors (CI).
+# libopenblas0-serial: an optimised single-threaded BLAS behind MUMPS' dense
+# kernels (Debian's default reference BLAS makes every factorization about 2x
+# slower); serial, so 1- and 2-rank timings compare one core per rank.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PKGS="petsc-dev libmetis-dev gmsh cmake make gcc pkg-config openmpi-bin
+PKGS="petsc-dev libmetis-dev libopenblas0-serial gmsh cmake make gcc pkg-config openmpi-bin
       python3 python3-numpy python3-h5py python3-matplotlib
       paraview python3-paraview xvfb xauth valgrind"
 missing=""
