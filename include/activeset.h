@@ -9,6 +9,9 @@
  * step is one active-set update (Hueber & Wohlmuth); it stops when the active
  * set is unchanged and the residual is at tolerance. c = E* / h^2 from the
  * materials and the non-mortar edge length (unit-free decisions).
+ * On the condensed path (one rank) the same iteration runs on the multipliers
+ * alone (condensed.h): the SNES unknown is nu = lambda - g C u, u is recovered
+ * once at the end; same active sets, same answer.
  * Second choice, -snes_type vinewtonrsls: PETSc's reduced-space VI solver with
  * lambda >= 0 and the residual g~ on the multiplier rows. */
 #ifndef M2D_ACTIVESET_H

@@ -179,11 +179,11 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
 
   PetscFunctionBeginUser;
   (void)z;
-  (void)J;
   (void)P;
   if (x->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
   PetscCall(ChooseSet(snes, x));
-  PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
+  if (x->reduced) PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, J));
+  else PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
   PetscFunctionReturn(0);
 }
 
@@ -226,18 +226,6 @@ static PetscErrorCode ReducedFunction(SNES snes, Vec nu, Vec F, void *ctx)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ReducedJacobian(SNES snes, Vec nu, Mat J, Mat P, void *ctx)
-{
-  Ctx *x = (Ctx *)ctx;
-
-  PetscFunctionBeginUser;
-  (void)nu;
-  (void)P;
-  PetscCall(ChooseSet(snes, x));
-  PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, J));
-  PetscFunctionReturn(0);
-}
-
 /* Reduced iteration: w, then the first step as the full path takes it - the set
  * of (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
  * set's linear piece at nu = 0. The SNES starts from nu0. */
@@ -261,6 +249,22 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec *nu, Mat *J)
   PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, J));
   PetscCall(VecCopy(kkt->r, x->gm));
   PetscCall(VecScale(x->gm, -1.0)); /* C u - r at u = 0; x->lam holds lambda0 */
+  { /* the relative tolerance refers to |F| there, as on the full path */
+    Vec       Fu, Fl;
+    PetscReal nu2, nl2;
+    PetscCall(VecDuplicate(kkt->f, &Fu));
+    PetscCall(MatMult(kkt->Ct, x->lam, Fu));
+    PetscCall(VecAXPY(Fu, -1.0, kkt->f));
+    PetscCall(VecNorm(Fu, NORM_2, &nu2));
+    PetscCall(VecDuplicate(x->lam, &Fl));
+    PetscCall(VecCopy(x->lam, Fl));
+    PetscCall(VecScale(Fl, -1.0 / x->c));
+    PetscCall(VecPointwiseMax(Fl, Fl, x->gm));
+    PetscCall(VecNorm(Fl, NORM_2, &nl2));
+    x->fnorm0 = PetscSqrtReal(nu2 * nu2 + PetscSqr(x->c * x->h * nl2));
+    PetscCall(VecDestroy(&Fu));
+    PetscCall(VecDestroy(&Fl));
+  }
   PetscCall(UpdateMask(x));
   PetscCall(ChooseSet(snes, x));
   PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, *J));
@@ -282,7 +286,7 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec *nu, Mat *J)
   PetscCall(VecDuplicate(kkt->r, &F));
   PetscCall(SNESSetFunction(snes, F, ReducedFunction, x));
   PetscCall(VecDestroy(&F));
-  PetscCall(SNESSetJacobian(snes, *J, *J, ReducedJacobian, x));
+  PetscCall(SNESSetJacobian(snes, *J, *J, FormJacobian, x));
   PetscFunctionReturn(0);
 }
 
@@ -290,24 +294,25 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
 {
   Ctx      *x = (Ctx *)ctx;
   PetscReal atol, rtol, stol;
-  PetscInt  maxit, maxf;
+  PetscInt  maxit, maxf, k;
 
   PetscFunctionBeginUser;
   (void)xnorm;
   (void)snorm;
   PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &maxit, &maxf));
   *reason = SNES_CONVERGED_ITERATING;
-  if (it == 0) x->fnorm0 = fnorm;
+  if (it == 0 && !x->reduced) x->fnorm0 = fnorm; /* reduced: set by ReducedStart */
+  k = it + x->reduced;                             /* steps taken, as the full path counts them */
   if (x->cycling_failed) *reason = SNES_DIVERGED_LOCAL_MIN;
   else if (PetscIsInfOrNanReal(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
-  else if ((it > 0 || x->nactive == 0) && x->entered + x->left == 0 && (fnorm <= atol || fnorm <= rtol * x->fnorm0)) *reason = it > 0 ? SNES_CONVERGED_FNORM_RELATIVE : SNES_CONVERGED_FNORM_ABS;
-  else if (it > 1 && x->entered + x->left == 0 && x->unchanged_before && fnorm >= 0.5 * x->fnorm_prev) {
+  else if ((k > 0 || x->nactive == 0) && x->entered + x->left == 0 && (fnorm <= atol || fnorm <= rtol * x->fnorm0)) *reason = k > 0 ? SNES_CONVERGED_FNORM_RELATIVE : SNES_CONVERGED_FNORM_ABS;
+  else if (k > 1 && x->entered + x->left == 0 && x->unchanged_before && fnorm >= 0.5 * x->fnorm_prev) {
     /* the same set solved twice and the residual no longer falls: round-off floor
      * of an ill-conditioned system (e.g. nu -> 0.5); the answer is as exact as it gets */
     *reason = SNES_CONVERGED_SNORM_RELATIVE;
   }
   else if (it >= maxit) *reason = SNES_DIVERGED_MAX_IT;
-  x->unchanged_before = (PetscBool)(it > 0 && x->entered + x->left == 0);
+  x->unchanged_before = (PetscBool)(k > 0 && x->entered + x->left == 0);
   x->fnorm_prev       = fnorm;
   PetscFunctionReturn(0);
 }
