@@ -22,13 +22,13 @@
 typedef struct {
   KKT       *kkt;
   Mat        F;   /* MUMPS factor of M with the Schur complement */
-  Mat        S0;  /* pristine Schur complement (rank 0: n_lambda x n_lambda; others 0 x 0) */
-  Vec        bl, vu, rhs, sol; /* work */
+  Mat        S0;  /* pristine Schur complement, n_lambda x n_lambda (one rank) */
+  Vec        rhs, sol;         /* work, layout of the KKT matrix */
   Vec        w;                /* w = C K_g^-1 f */
   PetscLogDouble factor_time;
 } Condensed;
 
-/* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
+/* kkt must have been created with augmentation (kkt->gamma > 0) and aij; one rank */
 PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs);
 /* reduced iteration (one rank): w from one substitution */
 PetscErrorCode CondensedReducedSetup(Condensed *cs);

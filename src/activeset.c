@@ -17,9 +17,8 @@ typedef struct {
   uint64_t   hist[1024];
   PetscInt   histn[1024];
   PetscBool  cycling_failed;
-  Condensed *cond; /* fast path, or NULL */
-  PetscBool  reduced; /* fast path on one rank: the SNES unknown is nu (condensed.h) */
-  Vec        cu;      /* reduced: C u(nu) */
+  Condensed *cond; /* fast path (the SNES unknown is nu, condensed.h), or NULL */
+  Vec        cu;   /* fast path: C u(nu) */
 } Ctx;
 
 PetscReal ActiveSetDefaultC(const Scene *s, const Contact *ct)
@@ -182,7 +181,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
   (void)P;
   if (x->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
   PetscCall(ChooseSet(snes, x));
-  if (x->reduced) PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, J));
+  if (x->cond) PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, J));
   else PetscCall(KKTSetActive(x->kkt, x->active, x->c, x->c * x->h));
   PetscFunctionReturn(0);
 }
@@ -229,7 +228,7 @@ static PetscErrorCode ReducedFunction(SNES snes, Vec nu, Vec F, void *ctx)
 /* Reduced iteration: w, then the first step as the full path takes it - the set
  * of (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
  * set's linear piece at nu = 0. The SNES starts from nu0. */
-static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec *nu, Mat *J)
+static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec z0, Vec *nu, Mat *J)
 {
   KKT               *kkt = x->kkt;
   Vec                F0, F;
@@ -247,25 +246,12 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec *nu, Mat *J)
   PetscCall(VecGetLocalSize(kkt->r, &n));
   PetscCall(VecGetSize(kkt->r, &N));
   PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, J));
-  PetscCall(VecCopy(kkt->r, x->gm));
-  PetscCall(VecScale(x->gm, -1.0)); /* C u - r at u = 0; x->lam holds lambda0 */
-  { /* the relative tolerance refers to |F| there, as on the full path */
-    Vec       Fu, Fl;
-    PetscReal nu2, nl2;
-    PetscCall(VecDuplicate(kkt->f, &Fu));
-    PetscCall(MatMult(kkt->Ct, x->lam, Fu));
-    PetscCall(VecAXPY(Fu, -1.0, kkt->f));
-    PetscCall(VecNorm(Fu, NORM_2, &nu2));
-    PetscCall(VecDuplicate(x->lam, &Fl));
-    PetscCall(VecCopy(x->lam, Fl));
-    PetscCall(VecScale(Fl, -1.0 / x->c));
-    PetscCall(VecPointwiseMax(Fl, Fl, x->gm));
-    PetscCall(VecNorm(Fl, NORM_2, &nl2));
-    x->fnorm0 = PetscSqrtReal(nu2 * nu2 + PetscSqr(x->c * x->h * nl2));
-    PetscCall(VecDestroy(&Fu));
-    PetscCall(VecDestroy(&Fl));
-  }
-  PetscCall(UpdateMask(x));
+  /* the full path's start z0 = (0, lambda0): its residual sets the first mask and
+   * the norm the relative tolerance refers to */
+  PetscCall(VecDuplicate(z0, &F));
+  PetscCall(FormFunction(snes, z0, F, x));
+  PetscCall(VecNorm(F, NORM_2, &x->fnorm0));
+  PetscCall(VecDestroy(&F));
   PetscCall(ChooseSet(snes, x));
   PetscCall(CondensedReducedJacobian(x->cond, x->active, x->c, x->h, *J));
   PetscCall(VecGetArrayRead(x->cond->w, &w));
@@ -301,8 +287,8 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   (void)snorm;
   PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &maxit, &maxf));
   *reason = SNES_CONVERGED_ITERATING;
-  if (it == 0 && !x->reduced) x->fnorm0 = fnorm; /* reduced: set by ReducedStart */
-  k = it + x->reduced;                             /* steps taken, as the full path counts them */
+  if (it == 0 && !x->cond) x->fnorm0 = fnorm; /* fast path: set by ReducedStart */
+  k = it + (x->cond ? 1 : 0);                 /* steps taken, as the full path counts them */
   if (x->cycling_failed) *reason = SNES_DIVERGED_LOCAL_MIN;
   else if (PetscIsInfOrNanReal(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
   else if ((k > 0 || x->nactive == 0) && x->entered + x->left == 0 && (fnorm <= atol || fnorm <= rtol * x->fnorm0)) *reason = k > 0 ? SNES_CONVERGED_FNORM_RELATIVE : SNES_CONVERGED_FNORM_ABS;
@@ -329,27 +315,22 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
     PetscFunctionReturn(0);
   }
   PetscCall(SNESGetFunction(snes, &F, NULL, NULL));
-  if (x->reduced) { /* the u rows hold by construction (round-off: see the final line) */
+  if (x->cond) { /* the u rows hold by construction (round-off: see the final line) */
     nu = 0;
     nl = fnorm;
+    it++; /* the first set was solved before the SNES */
   } else {
-  PetscCall(VecISCopy(F, x->kkt->isu, SCATTER_REVERSE, x->u));
-  PetscCall(VecNorm(x->u, NORM_2, &nu));
-  {
-    Vec fl;
+    Vec fl, z;
+    PetscCall(VecISCopy(F, x->kkt->isu, SCATTER_REVERSE, x->u));
+    PetscCall(VecNorm(x->u, NORM_2, &nu));
     PetscCall(VecDuplicate(x->lam, &fl));
     PetscCall(VecISCopy(F, x->kkt->isl, SCATTER_REVERSE, fl));
     PetscCall(VecNorm(fl, NORM_2, &nl));
     PetscCall(VecDestroy(&fl));
-  }
-  /* x->u was overwritten with F_u: restore the iterate */
-  {
-    Vec z;
+    /* x->u was overwritten with F_u: restore the iterate */
     PetscCall(SNESGetSolution(snes, &z));
     PetscCall(VecISCopy(z, x->kkt->isu, SCATTER_REVERSE, x->u));
   }
-  }
-  it += x->reduced; /* the reduced iteration's first set was solved before the SNES */
   if (it == 0) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " active (initial guess)         |F| %.3e  |F_u| %.3e  |F_lambda| %.3e\n", it, x->nactive, (double)fnorm, (double)nu, (double)nl));
   else PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " active (+%" PetscInt_FMT " entered, -%" PetscInt_FMT " left)  |F| %.3e  |F_u| %.3e  |F_lambda| %.3e\n", it, x->nactive, x->entered, x->left, (double)fnorm, (double)nu, (double)nl));
   if (x->vi) PetscCall(VecCopy(x->active, x->used)); /* the VI solver has no Jacobian hook of ours */
@@ -432,7 +413,6 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCheck(kkt->aij && kkt->gamma > 0 && size == 1, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs one rank and -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
     PetscCall(PetscNew(&x.cond));
     PetscCall(CondensedCreate(kkt, s->kkt_ordering, x.cond));
-    x.reduced = PETSC_TRUE;
     /* the SNES unknown is nu (n_lambda): its Jacobian is dense, LAPACK LU */
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(KSPGetPC(ksp, &pc));
@@ -489,14 +469,14 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCall(VecDestroy(&xl));
     PetscCall(VecDestroy(&xu));
   } else PetscCall(SNESSetConvergenceTest(snes, Converged, &x, NULL));
-  if (x.reduced) PetscCall(ReducedStart(snes, &x, &nu, &Jr));
+  if (x.cond) PetscCall(ReducedStart(snes, &x, z, &nu, &Jr));
   else PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, FormJacobian, &x));
   PetscCall(SNESMonitorSet(snes, Monitor, &x, NULL));
   PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", x.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", x.cond ? "K factored once, steps on the multipliers (condensed)" : "KKT refactored each step (full)", (double)x.c, kkt->nlam));
-  PetscCall(SNESSolve(snes, NULL, x.reduced ? nu : z));
+  PetscCall(SNESSolve(snes, NULL, x.cond ? nu : z));
   PetscCall(SNESGetConvergedReason(snes, &reason));
   PetscCall(SNESGetIterationNumber(snes, &info->iterations));
-  if (x.reduced) info->iterations++; /* the first set was solved before the SNES (ReducedStart) */
+  if (x.cond) info->iterations++; /* the first set was solved before the SNES (ReducedStart) */
   info->cycles = x.cycles;
   info->c      = x.c;
   info->vi     = x.vi;
@@ -515,7 +495,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     }
     SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "active-set iteration failed: %s", SNESConvergedReasons[reason]);
   }
-  if (x.reduced) { /* lambda from the last residual evaluation, u by one substitution */
+  if (x.cond) { /* lambda from the last residual evaluation, u by one substitution */
     PetscCall(CondensedRecover(x.cond, nu, u));
     PetscCall(VecCopy(x.lam, lam));
     if (x.monitor) { /* the u rows, which the reduced residual holds by construction */

@@ -4,12 +4,9 @@
 PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
 {
   MPI_Comm      comm = PetscObjectComm((PetscObject)kkt->A);
-  PetscMPIInt   rank, size;
-  IS            isS, perm = NULL;
+  PetscMPIInt   size;
+  IS            perm = NULL;
   MatFactorInfo info;
-  Vec           all;
-  VecScatter    sc;
-  PetscInt      n = 0, *idx = NULL;
   MatFactorError ferr;
   PetscLogDouble t0;
 
@@ -17,42 +14,13 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCall(PetscMemzero(cs, sizeof(*cs)));
   PetscCheck(kkt->gamma > 0 && kkt->aij, comm, PETSC_ERR_PLIB, "condensed path needs the augmented monolithic KKT matrix");
   cs->kkt = kkt;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  /* the multipliers' indices in A's numbering, all on rank 0 (MUMPS' centralised Schur) */
-  {
-    Vec li;
-    PetscInt        lo, hi, nl;
-    const PetscInt *il;
-    PetscCall(VecDuplicate(kkt->r, &li));
-    PetscCall(VecGetOwnershipRange(li, &lo, &hi));
-    PetscCall(ISGetLocalSize(kkt->isl, &nl));
-    PetscCall(ISGetIndices(kkt->isl, &il));
-    for (PetscInt j = 0; j < nl; j++) PetscCall(VecSetValue(li, lo + j, (PetscScalar)il[j], INSERT_VALUES));
-    PetscCall(ISRestoreIndices(kkt->isl, &il));
-    PetscCall(VecAssemblyBegin(li));
-    PetscCall(VecAssemblyEnd(li));
-    PetscCall(VecScatterCreateToZero(li, &sc, &all));
-    PetscCall(VecScatterBegin(sc, li, all, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(sc, li, all, INSERT_VALUES, SCATTER_FORWARD));
-    if (rank == 0) {
-      const PetscScalar *a;
-      PetscCall(VecGetSize(all, &n));
-      PetscCall(PetscMalloc1(n + 1, &idx));
-      PetscCall(VecGetArrayRead(all, &a));
-      for (PetscInt j = 0; j < n; j++) idx[j] = (PetscInt)PetscRealPart(a[j]);
-      PetscCall(VecRestoreArrayRead(all, &a));
-    }
-    PetscCall(VecScatterDestroy(&sc));
-    PetscCall(VecDestroy(&all));
-    PetscCall(VecDestroy(&li));
-  }
-  PetscCall(ISCreateGeneral(comm, n, idx, PETSC_OWN_POINTER, &isS));
+  PetscCheck(size == 1, comm, PETSC_ERR_SUP, "option -kkt_path condensed: one rank only (PETSc 3.18 solves with MUMPS Schur complements sequentially)");
   t0 = MPI_Wtime();
   PetscCall(MatGetFactor(kkt->A, MATSOLVERMUMPS, MAT_FACTOR_LU, &cs->F));
-  PetscCall(MatFactorSetSchurIS(cs->F, isS));
+  PetscCall(MatFactorSetSchurIS(cs->F, kkt->isl));
   PetscCall(MatFactorInfoInitialize(&info));
-  if (ord == M2D_ORDERING_METIS && size == 1) PetscCall(M2dOrderingMetis(kkt->A, isS, &perm));
+  if (ord == M2D_ORDERING_METIS) PetscCall(M2dOrderingMetis(kkt->A, kkt->isl, &perm));
   PetscCall(MatLUFactorSymbolic(cs->F, kkt->A, perm, perm, &info));
   PetscCall(ISDestroy(&perm));
   PetscCall(MatLUFactorNumeric(cs->F, kkt->A, &info));
@@ -61,9 +29,6 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   cs->factor_time = MPI_Wtime() - t0;
   PetscCall(MatFactorCreateSchurComplement(cs->F, &cs->S0, NULL));
   PetscCall(MatFactorFactorizeSchurComplement(cs->F)); /* every solve uses S0 */
-  PetscCall(ISDestroy(&isS));
-  PetscCall(VecDuplicate(kkt->r, &cs->bl));
-  PetscCall(VecDuplicate(kkt->f, &cs->vu));
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));
   PetscCall(VecDuplicate(kkt->b, &cs->sol));
   PetscFunctionReturn(0);
@@ -72,7 +37,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
 PetscErrorCode CondensedReducedSetup(Condensed *cs)
 {
   KKT *kkt = cs->kkt;
-  Vec  cu;
+  Vec  cu, u0, nu0;
 
   PetscFunctionBeginUser;
   PetscCheck(cs->S0 && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: needs one rank and one setup");
@@ -81,15 +46,19 @@ PetscErrorCode CondensedReducedSetup(Condensed *cs)
   PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, kkt->f));
   PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
   /* C u0 = w + S0 nu0 (= 0 up to round-off) gives w = C u0 - S0 nu0 */
-  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, cs->vu));
-  PetscCall(VecISCopy(cs->sol, kkt->isl, SCATTER_REVERSE, cs->bl));
+  PetscCall(VecDuplicate(kkt->f, &u0));
+  PetscCall(VecDuplicate(kkt->r, &nu0));
+  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, u0));
+  PetscCall(VecISCopy(cs->sol, kkt->isl, SCATTER_REVERSE, nu0));
   PetscCall(VecDuplicate(kkt->r, &cs->w));
   PetscCall(VecZeroEntries(cs->w));
   PetscCall(VecDuplicate(kkt->r, &cu));
-  PetscCall(CondensedReducedGaps(cs, cs->bl, cu)); /* S0 nu0 (w = 0 still) */
-  PetscCall(MatMult(kkt->C, cs->vu, cs->w));
+  PetscCall(CondensedReducedGaps(cs, nu0, cu)); /* S0 nu0 (w = 0 still) */
+  PetscCall(MatMult(kkt->C, u0, cs->w));
   PetscCall(VecAXPY(cs->w, -1.0, cu));
   PetscCall(VecDestroy(&cu));
+  PetscCall(VecDestroy(&u0));
+  PetscCall(VecDestroy(&nu0));
   PetscFunctionReturn(0);
 }
 
@@ -164,8 +133,6 @@ PetscErrorCode CondensedDestroy(Condensed *cs)
   PetscCall(VecDestroy(&cs->w));
   PetscCall(MatDestroy(&cs->F));
   PetscCall(MatDestroy(&cs->S0));
-  PetscCall(VecDestroy(&cs->bl));
-  PetscCall(VecDestroy(&cs->vu));
   PetscCall(VecDestroy(&cs->rhs));
   PetscCall(VecDestroy(&cs->sol));
   PetscFunctionReturn(0);
