@@ -32,6 +32,8 @@ PetscErrorCode MeshDestroy(Mesh *m);
 PetscInt       MeshGroupDim(const Mesh *m, const char *name);
 /* Local points of a group: for curves the edges, for points the vertices.
  * Errors with a message naming `option` if the group does not exist. */
+/* the stiffness matrix: AIJ, block size 2, preallocated from the cells, local-to-global map of the DM */
+PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K);
 PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *option, IS *is);
 /* Cell coordinates, counter-clockwise: xy[8] */
 void MeshCellCoordinates(const Mesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);

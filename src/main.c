@@ -185,8 +185,7 @@ static PetscErrorCode Run(MPI_Comm comm)
 
   PetscCall(PetscLogStagePush(stage[ST_ASSEMBLY]));
   t[ST_ASSEMBLY] = M2dWallTime();
-  PetscCall(DMCreateMatrix(m.dm, &K));
-  PetscCall(MatSetOption(K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(MeshCreateMatrix(&m, &K));
   PetscCall(DMCreateGlobalVector(m.dm, &f));
   PetscCall(VecDuplicate(f, &u));
   PetscCall(PetscObjectSetName((PetscObject)u, "displacement"));

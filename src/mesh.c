@@ -414,3 +414,92 @@ void MeshCellCoordinates(const Mesh *m, const PetscScalar *a, PetscSection csec,
     xy[2 * k + 1] = PetscRealPart(a[off + 1]);
   }
 }
+
+/* K with an exact preallocation from the cell -> vertex lists (2 dofs per
+ * vertex). Rows of vertices shared with another rank also receive that rank's
+ * cells: their counts add the other rank's (over-estimates, never under). */
+PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K)
+{
+  MPI_Comm               comm = PetscObjectComm((PetscObject)m->dm);
+  PetscSection           gsec;
+  PetscSF                sf;
+  ISLocalToGlobalMapping ltog;
+  PetscInt               nv = m->vEnd - m->vStart, nc = m->cEnd - m->cStart, nloc, *cptr, *cadj, *gdof, *cnt, *dnz, *onz, lo, hi, nrow = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
+  PetscCall(PetscSectionGetStorageSize(gsec, &nloc));
+  PetscCall(PetscMalloc4(nv + 1, &cptr, 4 * nc + 1, &cadj, nv, &gdof, 2 * (m->vEnd + 1), &cnt));
+  /* vertex -> cells */
+  PetscCall(PetscArrayzero(cptr, nv + 1));
+  for (PetscInt i = 0; i < 4 * nc; i++) cptr[m->cellverts[i] - m->vStart + 1]++;
+  for (PetscInt v = 0; v < nv; v++) cptr[v + 1] += cptr[v];
+  for (PetscInt i = 0; i < 4 * nc; i++) cadj[cptr[m->cellverts[i] - m->vStart]++] = i / 4;
+  for (PetscInt v = nv; v > 0; v--) cptr[v] = cptr[v - 1];
+  cptr[0] = 0;
+  /* global first dof of each vertex; negative: owned by another rank */
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(gsec, m->vStart + v, &off));
+    gdof[v] = off;
+  }
+  PetscCallMPI(MPI_Scan(&nloc, &hi, 1, MPIU_INT, MPI_SUM, comm));
+  lo = hi - nloc;
+  /* per local vertex (indexed by point): neighbour vertices in my range (cnt[2p]) and outside it (cnt[2p+1]) */
+  PetscCall(PetscArrayzero(cnt, 2 * (m->vEnd + 1)));
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt nb[64], n = 0;
+    for (PetscInt k = cptr[v]; k < cptr[v + 1]; k++)
+      for (int a = 0; a < 4; a++) {
+        PetscInt w = m->cellverts[4 * cadj[k] + a] - m->vStart, dup = 0;
+        for (PetscInt j = 0; j < n && !dup; j++) dup = nb[j] == w;
+        if (!dup) {
+          PetscCheck(n < 64, PETSC_COMM_SELF, PETSC_ERR_SUP, "a vertex with more than 63 neighbours: mesh too irregular for the preallocation");
+          nb[n++] = w;
+        }
+      }
+    for (PetscInt j = 0; j < n; j++) {
+      PetscInt g = gdof[nb[j]] >= 0 ? gdof[nb[j]] : -(gdof[nb[j]] + 1);
+      cnt[2 * (m->vStart + v) + (g >= lo && g < hi ? 0 : 1)]++;
+    }
+  }
+  /* shared vertices: the owner adds what the other ranks see (both columns counts, as an upper bound) */
+  PetscCall(DMGetPointSF(m->dm, &sf));
+  {
+    PetscInt *sum, *leafv, nroots, pStart, pEnd;
+    PetscCall(PetscSFGetGraph(sf, &nroots, NULL, NULL, NULL));
+    PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
+    if (nroots >= 0) {
+      PetscCall(PetscCalloc2(pEnd + 1, &sum, pEnd + 1, &leafv));
+      for (PetscInt p = m->vStart; p < m->vEnd; p++) leafv[p] = cnt[2 * p] + cnt[2 * p + 1];
+      PetscCall(PetscSFReduceBegin(sf, MPIU_INT, leafv, sum, MPI_SUM));
+      PetscCall(PetscSFReduceEnd(sf, MPIU_INT, leafv, sum, MPI_SUM));
+      for (PetscInt v = m->vStart; v < m->vEnd; v++)
+        if (gdof[v - m->vStart] >= 0 && sum[v]) {
+          cnt[2 * v] += sum[v];
+          cnt[2 * v + 1] += sum[v];
+        }
+      PetscCall(PetscFree2(sum, leafv));
+    }
+  }
+  PetscCall(PetscMalloc2(nloc / 2 + 1, &dnz, nloc / 2 + 1, &onz));
+  for (PetscInt v = 0; v < nv; v++)
+    if (gdof[v] >= 0) {
+      PetscInt r = (gdof[v] - lo) / 2;
+      dnz[r]     = PetscMin(cnt[2 * (m->vStart + v)], nloc / 2);
+      onz[r]     = cnt[2 * (m->vStart + v) + 1];
+      nrow++;
+    }
+  PetscCheck(2 * nrow == nloc, PETSC_COMM_SELF, PETSC_ERR_PLIB, "preallocation: %" PetscInt_FMT " owned vertices for %" PetscInt_FMT " dofs", nrow, nloc);
+  PetscCall(MatCreate(comm, K));
+  PetscCall(MatSetSizes(*K, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCall(MatSetBlockSize(*K, 2));
+  PetscCall(MatSetType(*K, MATAIJ));
+  PetscCall(MatXAIJSetPreallocation(*K, 2, dnz, onz, NULL, NULL));
+  PetscCall(DMGetLocalToGlobalMapping(m->dm, &ltog));
+  PetscCall(MatSetLocalToGlobalMapping(*K, ltog, ltog));
+  PetscCall(MatSetOption(*K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(PetscFree2(dnz, onz));
+  PetscCall(PetscFree4(cptr, cadj, gdof, cnt));
+  PetscFunctionReturn(0);
+}
