@@ -10,8 +10,10 @@
  *
  * The IS holds, for each row i, its position in the pivot order: MUMPS'
  * PERM_IN(i) - 1, which is what PETSc 3.18 forwards (perm_in[i] = idx[i] + 1).
- * One rank only: in parallel PETSc 3.18 hands MUMPS a distributed matrix and
- * no permutation. */
+ * Through PETSc's MUMPS interface (full path, reference) one rank only: in
+ * parallel PETSc 3.18 hands MUMPS a distributed matrix and no permutation.
+ * The condensed path calls MUMPS itself and orders on any number of ranks
+ * (condensed.h), each rank its own rows with M2dOrderingMetis. */
 #ifndef M2D_ORDERING_H
 #define M2D_ORDERING_H
 #include <petscksp.h>

@@ -232,11 +232,9 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec z0, Vec *nu, Mat *J)
 {
   KKT               *kkt = x->kkt;
   Vec                F0, F;
-  Mat                Jf;
   PetscInt           n, N;
   const PetscScalar *w, *r, *a;
   PetscScalar       *f;
-  MatFactorInfo      info;
 
   PetscFunctionBeginUser;
   PetscCall(CondensedReducedSetup(x->cond));
@@ -263,16 +261,35 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec z0, Vec *nu, Mat *J)
   PetscCall(VecRestoreArrayRead(x->active, &a));
   PetscCall(VecRestoreArrayRead(kkt->r, &r));
   PetscCall(VecRestoreArrayRead(x->cond->w, &w));
-  PetscCall(MatDuplicate(*J, MAT_COPY_VALUES, &Jf));
-  PetscCall(MatFactorInfoInitialize(&info));
-  PetscCall(MatLUFactor(Jf, NULL, NULL, &info));
-  PetscCall(MatSolve(Jf, F0, *nu));
-  PetscCall(MatDestroy(&Jf));
+  PetscCall(CondensedDenseFactor(x->cond, *J));
+  PetscCall(CondensedDenseSolve(x->cond, F0, *nu));
   PetscCall(VecDestroy(&F0));
   PetscCall(VecDuplicate(kkt->r, &F));
   PetscCall(SNESSetFunction(snes, F, ReducedFunction, x));
   PetscCall(VecDestroy(&F));
   PetscCall(SNESSetJacobian(snes, *J, *J, FormJacobian, x));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DensePCSetUp(PC pc)
+{
+  Condensed *cs;
+  Mat        P;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &cs));
+  PetscCall(PCGetOperators(pc, NULL, &P));
+  PetscCall(CondensedDenseFactor(cs, P));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DensePCApply(PC pc, Vec b, Vec y)
+{
+  Condensed *cs;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &cs));
+  PetscCall(CondensedDenseSolve(cs, b, y));
   PetscFunctionReturn(0);
 }
 
@@ -407,18 +424,18 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
   }
   PetscCall(KKTSetupKSP(kkt, ksp));
   if (s->condensed && !x.vi) {
-    PC          pc;
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(comm, &size));
-    PetscCheck(kkt->aij && kkt->gamma > 0 && size == 1, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs one rank and -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
+    PC pc;
+    PetscCheck(kkt->aij && kkt->gamma > 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
     PetscCall(PetscNew(&x.cond));
     PetscCall(CondensedCreate(kkt, s->kkt_ordering, x.cond));
-    /* the SNES unknown is nu (n_lambda): its Jacobian is dense, LAPACK LU */
+    /* the SNES unknown is nu (n_lambda): its Jacobian is dense, LAPACK LU on every rank */
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCSetType(pc, PCLU));
-    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGNATURAL));
+    PetscCall(PCSetType(pc, PCSHELL));
+    PetscCall(PCShellSetContext(pc, x.cond));
+    PetscCall(PCShellSetSetUp(pc, DensePCSetUp));
+    PetscCall(PCShellSetApply(pc, DensePCApply));
+    PetscCall(PCShellSetName(pc, "dense LU of the reduced Jacobian (LAPACK, every rank)"));
     info->factor_time = x.cond->factor_time;
   } else PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering));
   PetscCall(VecDuplicate(kkt->x, &z));

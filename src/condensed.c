@@ -1,139 +1,470 @@
-/* condensed.c - factor once with a MUMPS Schur complement; the reduced iteration's algebra (see condensed.h). */
+/* condensed.c - factor once with a MUMPS Schur complement (dmumps_c, 1 or 2
+ * ranks); the reduced iteration's algebra (see condensed.h). */
 #include "condensed.h"
+#include <dmumps_c.h>
+#include <petscblaslapack.h>
+
+#define ICNTL(I)  icntl[(I) - 1]
+#define INFOG(I)  infog[(I) - 1]
+#define RINFOG(I) rinfog[(I) - 1]
+
+struct M2dMumps {
+  DMUMPS_STRUC_C id;
+  MPI_Comm       comm;
+};
+
+static PetscLogEvent ev_order, ev_analysis, ev_factor, ev_solve;
+
+static PetscErrorCode RegisterEvents(void)
+{
+  static PetscBool done = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (done) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventRegister("M2dCondOrder", MAT_CLASSID, &ev_order));
+  PetscCall(PetscLogEventRegister("M2dMumpsAnalysis", MAT_CLASSID, &ev_analysis));
+  PetscCall(PetscLogEventRegister("M2dMumpsFactor", MAT_CLASSID, &ev_factor));
+  PetscCall(PetscLogEventRegister("M2dMumpsSolve", MAT_CLASSID, &ev_solve));
+  done = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode MumpsCall(M2dMumps *mu, int job, const char *what)
+{
+  PetscFunctionBeginUser;
+  mu->id.job = job;
+  dmumps_c(&mu->id);
+  if (mu->id.INFOG(1) == -10 && job == 2) SETERRQ(mu->comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");
+  PetscCheck(mu->id.INFOG(1) >= 0, mu->comm, PETSC_ERR_LIB, "MUMPS %s failed: INFOG(1) = %d, INFOG(2) = %d%s", what, (int)mu->id.INFOG(1), (int)mu->id.INFOG(2), mu->id.INFOG(1) == -9 ? " (raise -mat_mumps_icntl_14)" : "");
+  PetscFunctionReturn(0);
+}
+
+/* Pivot position (1-based, MUMPS PERM_IN) of every row of A, on rank 0; the
+ * multipliers last. Several ranks: rows of rank p with a u-coupling to a
+ * higher rank form the separator; the rest of every rank's rows is ordered by
+ * METIS on that rank, all at once; rank 0 puts the interiors rank by rank,
+ * then the separators, then the multipliers. */
+static PetscErrorCode Ordering(KKT *kkt, const PetscInt lamsorted[], PetscInt N, MUMPS_INT **perm)
+{
+  Mat             A = kkt->A, Ad = A, Ao = NULL;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)A);
+  PetscMPIInt     size, rank;
+  const PetscInt *ranges, *colmap = NULL, *il, *pos;
+  PetscInt        rs, re, n, nl, nsep = 0, *lastidx, *code, cnt[3] = {0, 0, 0}, *allcnt = NULL;
+  PetscBool      *islam;
+  IS              last, posis;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(MatGetOwnershipRange(A, &rs, &re));
+  PetscCall(MatGetOwnershipRanges(A, &ranges));
+  n = re - rs;
+  if (size > 1) PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
+  PetscCall(ISGetLocalSize(kkt->isl, &nl));
+  PetscCall(PetscCalloc2(n + 1, &islam, n + 1, &lastidx));
+  PetscCall(ISGetIndices(kkt->isl, &il));
+  for (PetscInt j = 0; j < nl; j++) islam[il[j] - rs] = PETSC_TRUE;
+  PetscCall(ISRestoreIndices(kkt->isl, &il));
+  /* separator rows first in `last`, then the multipliers */
+  for (PetscInt i = 0; i < n && Ao; i++) {
+    PetscInt        nc, loc;
+    const PetscInt *cols;
+    PetscBool       sep = PETSC_FALSE;
+    if (islam[i]) continue;
+    PetscCall(MatGetRow(Ao, i, &nc, &cols, NULL));
+    for (PetscInt k = 0; k < nc && !sep; k++) {
+      PetscInt g = colmap[cols[k]];
+      PetscCall(PetscFindInt(g, N, lamsorted, &loc));
+      sep = (PetscBool)(loc < 0 && g >= re); /* a u column of a higher rank */
+    }
+    PetscCall(MatRestoreRow(Ao, i, &nc, &cols, NULL));
+    if (sep) lastidx[nsep++] = i;
+  }
+  nl = nsep;
+  for (PetscInt i = 0; i < n; i++)
+    if (islam[i]) lastidx[nl++] = i;
+  PetscCall(PetscInfo(A, "separator %" PetscInt_FMT " rows, multipliers %" PetscInt_FMT ", interior %" PetscInt_FMT "\n", nsep, nl - nsep, n - nl));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nl, lastidx, PETSC_USE_POINTER, &last));
+  PetscCall(M2dOrderingMetis(Ad, last, &posis));
+  PetscCall(ISDestroy(&last));
+  /* per row: class (0 interior, 1 separator, 2 multiplier) and rank within it */
+  PetscCall(PetscMalloc1(n + 1, &code));
+  PetscCall(ISGetIndices(posis, &pos));
+  {
+    PetscInt nint = n - nl;
+    for (PetscInt i = 0; i < n; i++) {
+      PetscInt p = pos[i], c = p < nint ? 0 : (p < nint + nsep ? 1 : 2);
+      code[i] = 4 * (p - (c == 0 ? 0 : (c == 1 ? nint : nint + nsep))) + c;
+      cnt[c]++;
+    }
+  }
+  PetscCall(ISRestoreIndices(posis, &pos));
+  PetscCall(ISDestroy(&posis));
+  PetscCall(PetscFree2(islam, lastidx));
+  /* rank 0: positions */
+  {
+    PetscMPIInt *rc = NULL, *displ = NULL, nn;
+    PetscInt    *allcode = NULL, M = ranges[size];
+    if (rank == 0) {
+      PetscCall(PetscMalloc4(3 * size, &allcnt, size, &rc, size, &displ, M, &allcode));
+      for (PetscMPIInt p = 0; p < size; p++) {
+        PetscCall(PetscMPIIntCast(ranges[p + 1] - ranges[p], &rc[p]));
+        PetscCall(PetscMPIIntCast(ranges[p], &displ[p]));
+      }
+    }
+    PetscCall(PetscMPIIntCast(n, &nn));
+    PetscCallMPI(MPI_Gather(cnt, 3, MPIU_INT, allcnt, 3, MPIU_INT, 0, comm));
+    PetscCallMPI(MPI_Gatherv(code, nn, MPIU_INT, allcode, rc, displ, MPIU_INT, 0, comm));
+    *perm = NULL;
+    if (rank == 0) {
+      PetscInt *off, acc = 0;
+      PetscCall(PetscMalloc1(3 * size, &off));
+      for (int c = 0; c < 3; c++)
+        for (PetscMPIInt p = 0; p < size; p++) {
+          off[3 * p + c] = acc;
+          acc += allcnt[3 * p + c];
+        }
+      PetscCheck(acc == M, PETSC_COMM_SELF, PETSC_ERR_PLIB, "ordering covers %" PetscInt_FMT " of %" PetscInt_FMT " rows", acc, M);
+      PetscCall(PetscMalloc1(M, perm));
+      for (PetscMPIInt p = 0; p < size; p++)
+        for (PetscInt g = ranges[p]; g < ranges[p + 1]; g++) (*perm)[g] = (MUMPS_INT)(off[3 * p + allcode[g] % 4] + allcode[g] / 4 + 1);
+      PetscCall(PetscFree(off));
+      PetscCall(PetscFree4(allcnt, rc, displ, allcode));
+    }
+  }
+  PetscCall(PetscFree(code));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
 {
-  MPI_Comm      comm = PetscObjectComm((PetscObject)kkt->A);
-  PetscMPIInt   size;
-  IS            perm = NULL;
-  MatFactorInfo info;
-  MatFactorError ferr;
-  PetscLogDouble t0;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
+  PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
+  M2dMumps       *mu;
+  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4 = 0, icntl14 = 20, k = 0;
+  const PetscInt *il;
+  MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
+  PetscScalar    *a, *S = NULL;
+  PetscLogDouble  t0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(cs, sizeof(*cs)));
   PetscCheck(kkt->gamma > 0 && kkt->aij, comm, PETSC_ERR_PLIB, "condensed path needs the augmented monolithic KKT matrix");
+  PetscCall(RegisterEvents());
   cs->kkt = kkt;
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCheck(size == 1, comm, PETSC_ERR_SUP, "option -kkt_path condensed: one rank only (PETSc 3.18 solves with MUMPS Schur complements sequentially)");
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscOptionsBegin(comm, NULL, "Condensed path (MUMPS called directly)", NULL);
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "MUMPS output level of the condensed path's factorization (0: none, 2: statistics)", NULL, icntl4, &icntl4, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "MUMPS working space increase of the condensed path (percent)", NULL, icntl14, &icntl14, NULL));
+  PetscOptionsEnd();
+
   t0 = MPI_Wtime();
-  PetscCall(MatGetFactor(kkt->A, MATSOLVERMUMPS, MAT_FACTOR_LU, &cs->F));
-  PetscCall(MatFactorSetSchurIS(cs->F, kkt->isl));
-  PetscCall(MatFactorInfoInitialize(&info));
-  if (ord == M2D_ORDERING_METIS) PetscCall(M2dOrderingMetis(kkt->A, kkt->isl, &perm));
-  PetscCall(MatLUFactorSymbolic(cs->F, kkt->A, perm, perm, &info));
-  PetscCall(ISDestroy(&perm));
-  PetscCall(MatLUFactorNumeric(cs->F, kkt->A, &info));
-  PetscCall(MatFactorGetError(cs->F, &ferr));
-  PetscCheck(ferr == MAT_FACTOR_NOERROR, comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");
+  /* the multipliers: global indices of A, in the order of kkt->r (rank by rank) */
+  PetscCall(VecGetLocalSize(kkt->r, &cs->n));
+  PetscCall(VecGetSize(kkt->r, &cs->N));
+  PetscCall(VecGetOwnershipRange(kkt->r, &cs->lo, NULL));
+  PetscCall(PetscMalloc2(cs->N + 1, &lamall, cs->N + 1, &lamsorted));
+  PetscCall(PetscMalloc2(size, &rc, size, &displ));
+  PetscCall(PetscMPIIntCast(cs->n, &nn));
+  PetscCallMPI(MPI_Allgather(&nn, 1, MPI_INT, rc, 1, MPI_INT, comm));
+  displ[0] = 0;
+  for (PetscMPIInt p = 1; p < size; p++) displ[p] = displ[p - 1] + rc[p - 1];
+  PetscCall(ISGetIndices(kkt->isl, &il));
+  PetscCallMPI(MPI_Allgatherv(il, nn, MPIU_INT, lamall, rc, displ, MPIU_INT, comm));
+  PetscCall(ISRestoreIndices(kkt->isl, &il));
+  PetscCall(PetscArraycpy(lamsorted, lamall, cs->N));
+  PetscCall(PetscSortInt(cs->N, lamsorted));
+
+  PetscCall(PetscLogEventBegin(ev_order, kkt->A, 0, 0, 0));
+  if (ord == M2D_ORDERING_METIS) PetscCall(Ordering(kkt, lamsorted, cs->N, &perm));
+  PetscCall(PetscLogEventEnd(ev_order, kkt->A, 0, 0, 0));
+
+  /* the local rows as 1-based triples */
+  PetscCall(MatGetOwnershipRange(kkt->A, &rs, &re));
+  PetscCall(MatGetSize(kkt->A, &M, NULL));
+  for (PetscInt i = rs; i < re; i++) {
+    PetscInt nc;
+    PetscCall(MatGetRow(kkt->A, i, &nc, NULL, NULL));
+    nnz += nc;
+    PetscCall(MatRestoreRow(kkt->A, i, &nc, NULL, NULL));
+  }
+  PetscCall(PetscMalloc3(nnz + 1, &irn, nnz + 1, &jcn, nnz + 1, &a));
+  for (PetscInt i = rs; i < re; i++) {
+    PetscInt           nc;
+    const PetscInt    *cols;
+    const PetscScalar *v;
+    PetscCall(MatGetRow(kkt->A, i, &nc, &cols, &v));
+    for (PetscInt j = 0; j < nc; j++, k++) {
+      irn[k] = (MUMPS_INT)(i + 1);
+      jcn[k] = (MUMPS_INT)(cols[j] + 1);
+      a[k]   = v[j];
+    }
+    PetscCall(MatRestoreRow(kkt->A, i, &nc, &cols, &v));
+  }
+
+  PetscCall(PetscNew(&mu));
+  cs->mumps = mu;
+  PetscCallMPI(MPI_Comm_dup(comm, &mu->comm));
+  mu->id.comm_fortran = (MUMPS_INT)MPI_Comm_c2f(mu->comm);
+  mu->id.par          = 1;
+  mu->id.sym          = 0;
+  PetscCall(MumpsCall(mu, -1, "initialisation"));
+  mu->id.ICNTL(1)  = icntl4 > 0 ? 6 : -1;
+  mu->id.ICNTL(2)  = -1;
+  mu->id.ICNTL(3)  = icntl4 > 0 ? 6 : -1;
+  mu->id.ICNTL(4)  = (MUMPS_INT)icntl4;
+  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : 7; /* 7: MUMPS' choice (AMD with a Schur complement) */
+  mu->id.ICNTL(14) = (MUMPS_INT)icntl14;
+  mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
+  mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */
+  mu->id.ICNTL(28) = 1; /* sequential analysis (the ordering is given) */
+  mu->id.n         = (MUMPS_INT)M;
+  mu->id.nnz_loc   = (MUMPS_INT8)nnz;
+  mu->id.irn_loc   = irn;
+  mu->id.jcn_loc   = jcn;
+  mu->id.a_loc     = a;
+  if (rank == 0) {
+    PetscCall(PetscMalloc2(cs->N + 1, &listvar, cs->N * cs->N + 1, &S));
+    for (PetscInt j = 0; j < cs->N; j++) listvar[j] = (MUMPS_INT)(lamall[j] + 1);
+    mu->id.perm_in       = perm;
+    mu->id.size_schur    = (MUMPS_INT)cs->N;
+    mu->id.listvar_schur = listvar;
+    mu->id.schur         = S;
+    mu->id.schur_lld     = (MUMPS_INT)cs->N;
+  }
+  PetscCall(PetscLogEventBegin(ev_analysis, kkt->A, 0, 0, 0));
+  PetscCall(MumpsCall(mu, 1, "analysis"));
+  PetscCall(PetscLogEventEnd(ev_analysis, kkt->A, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_factor, kkt->A, 0, 0, 0));
+  PetscCall(MumpsCall(mu, 2, "factorization"));
+  PetscCall(PetscLogFlops(mu->id.RINFOG(3) / size));
+  PetscCall(PetscInfo(kkt->A, "MUMPS factorization: %g flops on this rank (RINFO(3)), %g in all\n", (double)mu->id.rinfo[2], (double)mu->id.RINFOG(3)));
+  PetscCall(PetscLogEventEnd(ev_factor, kkt->A, 0, 0, 0));
+  /* the solves need neither the matrix nor the ordering */
+  PetscCall(PetscFree3(irn, jcn, a));
+  mu->id.irn_loc = mu->id.jcn_loc = NULL;
+  mu->id.a_loc   = NULL;
+  PetscCall(PetscFree(perm));
+  mu->id.perm_in = NULL;
+
+  /* S0 (rows by rows on rank 0) -> rows lo..lo+n-1 on each rank, column-major */
+  {
+    PetscScalar *buf;
+    PetscMPIInt *rc2 = NULL, *d2 = NULL, nr;
+    PetscCall(PetscMalloc1(cs->n * cs->N + 1, &buf));
+    PetscCall(PetscMalloc1(cs->n * cs->N + 1, &cs->S));
+    if (rank == 0) {
+      PetscCall(PetscMalloc2(size, &rc2, size, &d2));
+      for (PetscMPIInt p = 0; p < size; p++) {
+        PetscCall(PetscMPIIntCast(rc[p] * cs->N, &rc2[p]));
+        PetscCall(PetscMPIIntCast(displ[p] * cs->N, &d2[p]));
+      }
+    }
+    PetscCall(PetscMPIIntCast(cs->n * cs->N, &nr));
+    PetscCallMPI(MPI_Scatterv(S, rc2, d2, MPIU_SCALAR, buf, nr, MPIU_SCALAR, 0, comm));
+    for (PetscInt i = 0; i < cs->n; i++)
+      for (PetscInt j = 0; j < cs->N; j++) cs->S[i + j * cs->n] = buf[i * cs->N + j];
+    PetscCall(PetscFree(buf));
+    if (rank == 0) PetscCall(PetscFree2(rc2, d2));
+  }
+  if (rank == 0) PetscCall(PetscFree2(listvar, S));
+  mu->id.listvar_schur = NULL;
+  mu->id.schur         = NULL;
+  PetscCall(PetscFree2(rc, displ));
+  PetscCall(PetscFree2(lamall, lamsorted));
   cs->factor_time = MPI_Wtime() - t0;
-  PetscCall(MatFactorCreateSchurComplement(cs->F, &cs->S0, NULL));
-  PetscCall(MatFactorFactorizeSchurComplement(cs->F)); /* every solve uses S0 */
+
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));
-  PetscCall(VecDuplicate(kkt->b, &cs->sol));
+  PetscCall(VecScatterCreateToZero(cs->rhs, &cs->toz, &cs->rhs0));
+  PetscCall(VecScatterCreateToAll(kkt->r, &cs->toall, &cs->all));
+  PetscCall(PetscMalloc2(cs->N * cs->N + 1, &cs->lu, cs->N + 1, &cs->piv));
+  PetscFunctionReturn(0);
+}
+
+/* u = K_g^-1 fu: MUMPS' interior solve (ICNTL(26) = 0: the Schur rows are left out) */
+static PetscErrorCode InteriorSolve(Condensed *cs, Vec fu, Vec u)
+{
+  M2dMumps    *mu = cs->mumps;
+  PetscScalar *b  = NULL;
+  PetscMPIInt  rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(mu->comm, &rank));
+  PetscCall(PetscLogEventBegin(ev_solve, 0, 0, 0, 0));
+  PetscCall(VecZeroEntries(cs->rhs));
+  PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_FORWARD, fu));
+  PetscCall(VecScatterBegin(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
+  if (rank == 0) {
+    PetscCall(VecGetArray(cs->rhs0, &b));
+    mu->id.rhs  = b;
+    mu->id.lrhs = mu->id.n;
+  }
+  mu->id.nrhs      = 1;
+  mu->id.ICNTL(20) = 0; /* dense right-hand side on rank 0 */
+  mu->id.ICNTL(21) = 0; /* solution on rank 0, in place */
+  mu->id.ICNTL(26) = 0; /* interior problem: K_g u = f_u */
+  PetscCall(MumpsCall(mu, 3, "solve"));
+  if (rank == 0) PetscCall(VecRestoreArray(cs->rhs0, &b));
+  mu->id.rhs = NULL;
+  PetscCall(VecScatterBegin(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_REVERSE, u));
+  PetscCall(PetscLogEventEnd(ev_solve, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedReducedSetup(Condensed *cs)
 {
   KKT *kkt = cs->kkt;
-  Vec  cu, u0, nu0;
+  Vec  u0;
 
   PetscFunctionBeginUser;
-  PetscCheck(cs->S0 && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: needs one rank and one setup");
-  /* M [u0; nu0] = [f; 0] */
-  PetscCall(VecZeroEntries(cs->rhs));
-  PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, kkt->f));
-  PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
-  /* C u0 = w + S0 nu0 (= 0 up to round-off) gives w = C u0 - S0 nu0 */
+  PetscCheck(cs->S && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: one setup after the factorization");
   PetscCall(VecDuplicate(kkt->f, &u0));
-  PetscCall(VecDuplicate(kkt->r, &nu0));
-  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, u0));
-  PetscCall(VecISCopy(cs->sol, kkt->isl, SCATTER_REVERSE, nu0));
+  PetscCall(InteriorSolve(cs, kkt->f, u0));
   PetscCall(VecDuplicate(kkt->r, &cs->w));
-  PetscCall(VecZeroEntries(cs->w));
-  PetscCall(VecDuplicate(kkt->r, &cu));
-  PetscCall(CondensedReducedGaps(cs, nu0, cu)); /* S0 nu0 (w = 0 still) */
   PetscCall(MatMult(kkt->C, u0, cs->w));
-  PetscCall(VecAXPY(cs->w, -1.0, cu));
-  PetscCall(VecDestroy(&cu));
   PetscCall(VecDestroy(&u0));
-  PetscCall(VecDestroy(&nu0));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu)
 {
-  const PetscScalar *S, *v, *w;
+  const PetscScalar *v, *w;
   PetscScalar       *y;
-  PetscInt           n, lda;
+  PetscInt           n = cs->n, N = cs->N;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetLocalSize(nu, &n));
-  PetscCall(MatDenseGetLDA(cs->S0, &lda));
-  PetscCall(MatDenseGetArrayRead(cs->S0, &S));
-  PetscCall(VecGetArrayRead(nu, &v));
+  PetscCall(VecScatterBegin(cs->toall, nu, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(cs->toall, nu, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(cs->all, &v));
   PetscCall(VecGetArrayRead(cs->w, &w));
   PetscCall(VecGetArray(cu, &y));
   for (PetscInt i = 0; i < n; i++) y[i] = w[i];
-  for (PetscInt j = 0; j < n; j++) /* column-major: y += S(:, j) v_j */
-    for (PetscInt i = 0; i < n; i++) y[i] += S[i + j * lda] * v[j];
+  for (PetscInt j = 0; j < N; j++) /* column-major: y += S(:, j) v_j */
+    for (PetscInt i = 0; i < n; i++) y[i] += cs->S[i + j * n] * v[j];
   PetscCall(VecRestoreArray(cu, &y));
   PetscCall(VecRestoreArrayRead(cs->w, &w));
-  PetscCall(VecRestoreArrayRead(nu, &v));
-  PetscCall(MatDenseRestoreArrayRead(cs->S0, &S));
-  PetscCall(PetscLogFlops(2.0 * n * n));
+  PetscCall(VecRestoreArrayRead(cs->all, &v));
+  PetscCall(PetscLogFlops(2.0 * n * N));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, PetscReal h, Mat J)
 {
-  const PetscScalar *S, *a;
+  const PetscScalar *a;
   PetscScalar       *Jv;
-  PetscInt           n, lda, ldj;
+  PetscInt           n = cs->n, N = cs->N, ldj;
   PetscReal          g = cs->kkt->gamma;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetLocalSize(active, &n));
-  PetscCall(MatDenseGetLDA(cs->S0, &lda));
   PetscCall(MatDenseGetLDA(J, &ldj));
-  PetscCall(MatDenseGetArrayRead(cs->S0, &S));
   PetscCall(VecGetArrayRead(active, &a));
   PetscCall(MatDenseGetArrayWrite(J, &Jv));
-  for (PetscInt j = 0; j < n; j++)
-    for (PetscInt i = 0; i < n; i++) Jv[i + j * ldj] = PetscRealPart(a[i]) != 0 ? c * h * S[i + j * lda] : -h * (g * S[i + j * lda] + (i == j ? 1.0 : 0.0));
+  for (PetscInt j = 0; j < N; j++)
+    for (PetscInt i = 0; i < n; i++) {
+      PetscScalar s = cs->S[i + j * n];
+      Jv[i + j * ldj] = PetscRealPart(a[i]) != 0 ? c * h * s : -h * (g * s + (cs->lo + i == j ? 1.0 : 0.0));
+    }
   PetscCall(MatDenseRestoreArrayWrite(J, &Jv));
   PetscCall(VecRestoreArrayRead(active, &a));
-  PetscCall(MatDenseRestoreArrayRead(cs->S0, &S));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+/* every rank: the whole J, gathered by rows (row-major = J^T column-major), LU of J^T */
+PetscErrorCode CondensedDenseFactor(Condensed *cs, Mat J)
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)J);
+  PetscMPIInt        size, nr, *rc, *displ;
+  const PetscScalar *Jv;
+  PetscScalar       *buf;
+  PetscInt           n = cs->n, N = cs->N, ldj;
+  PetscBLASInt       bn, info;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc3(n * N + 1, &buf, size, &rc, size, &displ));
+  PetscCall(MatDenseGetLDA(J, &ldj));
+  PetscCall(MatDenseGetArrayRead(J, &Jv));
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt j = 0; j < N; j++) buf[i * N + j] = Jv[i + j * ldj];
+  PetscCall(MatDenseRestoreArrayRead(J, &Jv));
+  PetscCall(PetscMPIIntCast(n * N, &nr));
+  PetscCallMPI(MPI_Allgather(&nr, 1, MPI_INT, rc, 1, MPI_INT, comm));
+  displ[0] = 0;
+  for (PetscMPIInt p = 1; p < size; p++) displ[p] = displ[p - 1] + rc[p - 1];
+  PetscCallMPI(MPI_Allgatherv(buf, nr, MPIU_SCALAR, cs->lu, rc, displ, MPIU_SCALAR, comm));
+  PetscCall(PetscFree3(buf, rc, displ));
+  PetscCall(PetscBLASIntCast(N, &bn));
+  if (N > 0) {
+    PetscCallBLAS("LAPACKgetrf", LAPACKgetrf_(&bn, &bn, cs->lu, &bn, cs->piv, &info));
+    PetscCheck(info == 0, comm, PETSC_ERR_NOT_CONVERGED, "reduced active-set Jacobian is singular (LAPACK getrf info %d)", (int)info);
+  }
+  PetscCall(PetscLogFlops(2.0 * N * N * N / 3.0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x)
+{
+  PetscScalar       *v;
+  const PetscScalar *va;
+  PetscBLASInt       bn, one = 1, info;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(cs->toall, b, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(cs->toall, b, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscBLASIntCast(cs->N, &bn));
+  PetscCall(VecGetArray(cs->all, &v));
+  if (cs->N > 0) PetscCallBLAS("LAPACKgetrs", LAPACKgetrs_("T", &bn, &one, cs->lu, &bn, cs->piv, v, &bn, &info));
+  PetscCall(VecRestoreArray(cs->all, &v));
+  PetscCall(VecGetArrayRead(cs->all, &va));
+  {
+    PetscScalar *xv;
+    PetscCall(VecGetArray(x, &xv));
+    for (PetscInt i = 0; i < cs->n; i++) xv[i] = va[cs->lo + i];
+    PetscCall(VecRestoreArray(x, &xv));
+  }
+  PetscCall(VecRestoreArrayRead(cs->all, &va));
+  PetscCall(PetscLogFlops(2.0 * cs->N * cs->N));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
 {
   KKT *kkt = cs->kkt;
-  Vec  cu;
+  Vec  fu;
 
   PetscFunctionBeginUser;
-  /* M [u; nu'] = [f; C u(nu)] with the pristine S0 gives nu' = nu and u = u(nu) */
-  PetscCall(VecDuplicate(kkt->r, &cu));
-  PetscCall(CondensedReducedGaps(cs, nu, cu));
-  PetscCall(VecISCopy(cs->rhs, kkt->isu, SCATTER_FORWARD, kkt->f));
-  PetscCall(VecISCopy(cs->rhs, kkt->isl, SCATTER_FORWARD, cu));
-  PetscCall(MatSolve(cs->F, cs->rhs, cs->sol));
-  PetscCall(VecISCopy(cs->sol, kkt->isu, SCATTER_REVERSE, u));
-  PetscCall(VecDestroy(&cu));
+  /* u = K_g^-1 (f - C^T nu) */
+  PetscCall(VecDuplicate(kkt->f, &fu));
+  PetscCall(MatMult(kkt->Ct, nu, fu));
+  PetscCall(VecAYPX(fu, -1.0, kkt->f));
+  PetscCall(InteriorSolve(cs, fu, u));
+  PetscCall(VecDestroy(&fu));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedDestroy(Condensed *cs)
 {
   PetscFunctionBeginUser;
+  if (cs->mumps) {
+    cs->mumps->id.job = -2;
+    dmumps_c(&cs->mumps->id);
+    PetscCallMPI(MPI_Comm_free(&cs->mumps->comm));
+    PetscCall(PetscFree(cs->mumps));
+  }
   PetscCall(VecDestroy(&cs->w));
-  PetscCall(MatDestroy(&cs->F));
-  PetscCall(MatDestroy(&cs->S0));
+  PetscCall(PetscFree(cs->S));
+  PetscCall(PetscFree2(cs->lu, cs->piv));
   PetscCall(VecDestroy(&cs->rhs));
-  PetscCall(VecDestroy(&cs->sol));
+  PetscCall(VecDestroy(&cs->rhs0));
+  PetscCall(VecScatterDestroy(&cs->toz));
+  PetscCall(VecDestroy(&cs->all));
+  PetscCall(VecScatterDestroy(&cs->toall));
   PetscFunctionReturn(0);
 }

@@ -200,10 +200,9 @@ static PetscErrorCode Run(MPI_Comm comm)
       char      st[64];
       PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &vi));
       vi = (PetscBool)(vi && !strcmp(st, SNESVINEWTONRSLS));
-      if (s.kkt_mat == KKT_NEST || vi || size > 1) {
-        /* PETSc 3.18 solves with MUMPS Schur complements on one rank only */
+      if (s.kkt_mat == KKT_NEST || vi) {
         s.condensed = PETSC_FALSE;
-        PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs 1 rank, -kkt_mat aij and newtonls)\n"));
+        PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
       } else if (s.kkt_augment == 0) s.kkt_augment = 1.0;
     }
     PetscCall(KKTCreate(&s, &contact.R, K, f, u, ndir, drows, &kkt));

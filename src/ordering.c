@@ -96,7 +96,11 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
   nv = (idx_t)ng;
   METIS_SetDefaultOptions(opts);
   opts[METIS_OPTION_NUMBERING] = 0;
-  rc = ng > 0 ? METIS_NodeND(&nv, xadj, gadj, vwgt, opts, perm, iperm) : METIS_OK;
+  {
+    double t0 = MPI_Wtime();
+    rc = ng > 0 ? METIS_NodeND(&nv, xadj, gadj, vwgt, opts, perm, iperm) : METIS_OK;
+    PetscCall(PetscInfo(A, "METIS_NodeND: %" PetscInt_FMT " vertices for %" PetscInt_FMT " rows, %g s\n", ng, n, MPI_Wtime() - t0));
+  }
   PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "option -kkt_ordering metis: METIS_NodeND failed (%d)", rc);
 
   /* expand: the rows of a group keep their order; `last` rows at the end */

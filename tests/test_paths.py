@@ -6,11 +6,13 @@
    displacement and the contact pressure agree to 1e-9 of their maxima;
  - the condensed path's recovered displacement satisfies K u + C^T lambda = f
    to 1e-10 of |f| (printed under -contact_monitor);
- - the METIS ordering is refused with one clear line nowhere: on 2 ranks it is
-   silently MUMPS' own (PETSc hands MUMPS no permutation in parallel)."""
+ - 2 ranks: the condensed path runs there too (the rows coupled to the other
+   rank are the top separator of the METIS ordering), with the same steps,
+   active set and fields (to 1e-9) as one rank's full path, for both
+   orderings; its recovered displacement satisfies the u rows as well."""
 import re
 import numpy as np
-from m2d import check, mesh, opts, read_h5, run, solve, workdir
+from m2d import check, mesh, opts, read_h5, run, solve, sorted_fields, workdir
 
 ways = [("condensed", "metis"), ("condensed", "mumps"), ("full", "metis"), ("full", "mumps")]
 cases = [("hertz_%d" % lv, ["-options_file", opts("hertz"), "-mesh", mesh("hertz_%d" % lv)]) for lv in (0, 1, 2)]
@@ -43,8 +45,20 @@ rc, out, err = run(["-options_file", opts("hertz"), "-mesh", mesh("hertz_2"), "-
 m = re.search(r"recovered u: \|K u \+ C\^T lambda - f\| = (\S+) \(\|f\| = (\S+)\)", out)
 check(m is not None and float(m.group(1)) < 1e-10 * float(m.group(2)), "condensed: |K u + C^T lambda - f| = %s, |f| = %s" % (m.group(1), m.group(2)) if m else "condensed: no recovered-u line in the monitor output")
 
-# two ranks: the ordering option is accepted and the answer is MUMPS' own
-s2 = solve("paths_2ranks", cases[0][1] + ["-kkt_ordering", "metis", "-output_vtu", "0", "-output_name", "sol"], ranks=2)
-s1 = res_h0 = solve("paths_1rank_ref", cases[0][1] + ["-kkt_path", "full", "-kkt_ordering", "mumps", "-output_vtu", "0", "-output_name", "sol"])
-check(s2["kkt_path"] == "full" and s2["iterations"] == s1["iterations"] and abs(s2["peak_pressure"] / s1["peak_pressure"] - 1) < 1e-9,
-      "2 ranks with -kkt_ordering metis: full path, %d steps, peak pressure equal (%.1e)" % (s2["iterations"], abs(s2["peak_pressure"] / s1["peak_pressure"] - 1)))
+# two ranks: the condensed path, both orderings, against one rank's full path
+for name, base in cases:
+    ref = solve("paths2_%s_ref" % name, base + ["-kkt_path", "full", "-kkt_ordering", "mumps", "-output_name", "sol", "-output_vtu", "0"])
+    vr = sorted_fields(workdir("paths2_%s_ref" % name) + "/sol.h5")[0]
+    for order in ("metis", "mumps"):
+        tag = "paths2_%s_%s" % (name, order)
+        s = solve(tag, base + ["-kkt_path", "condensed", "-kkt_ordering", order, "-output_name", "sol", "-output_vtu", "0"], ranks=2)
+        v = sorted_fields(workdir(tag) + "/sol.h5")[0]
+        check(s["kkt_path"] == "condensed" and s["ranks"] == 2, "%s 2 ranks/%s: ran the %s path on %d ranks" % (name, order, s["kkt_path"], s["ranks"]))
+        check(s["iterations"] == ref["iterations"] and s["active_nodes"] == ref["active_nodes"],
+              "%s 2 ranks/%s: %d steps, %d active (1 rank full: %d, %d)" % (name, order, s["iterations"], s["active_nodes"], ref["iterations"], ref["active_nodes"]))
+        du = np.abs(v["displacement"] - vr["displacement"]).max() / np.abs(vr["displacement"]).max()
+        dp = np.abs(v["contact_pressure"] - vr["contact_pressure"]).max() / np.abs(vr["contact_pressure"]).max()
+        check(du < 1e-9 and dp < 1e-9, "%s 2 ranks/%s: displacement %.1e, pressure %.1e of the 1-rank full path" % (name, order, du, dp))
+rc, out, err = run(["-options_file", opts("hertz"), "-mesh", mesh("hertz_2"), "-contact_monitor", "-output_dir", workdir("paths_monitor2")], ranks=2)
+m = re.search(r"recovered u: \|K u \+ C\^T lambda - f\| = (\S+) \(\|f\| = (\S+)\)", out)
+check(m is not None and float(m.group(1)) < 1e-10 * float(m.group(2)), "condensed, 2 ranks: |K u + C^T lambda - f| = %s, |f| = %s" % (m.group(1), m.group(2)) if m else "condensed, 2 ranks: no recovered-u line in the monitor output")
