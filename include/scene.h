@@ -30,6 +30,11 @@ typedef enum {
   KKT_NEST
 } KKTMatType;
 
+typedef enum {
+  M2D_PARTITIONER_METIS,
+  M2D_PARTITIONER_PETSC
+} M2dPartitioner;
+
 typedef struct {
   char      name[M2D_NAME_LEN]; /* physical surface name */
   PetscReal E, nu;
@@ -52,6 +57,8 @@ typedef struct {
 typedef struct {
   PetscInt    nmesh;
   PetscReal   mesh_scale; /* coordinates are multiplied by this (unit change) */
+  PetscBool   mesh_check; /* run DMPlexCheck* on the plex as built */
+  M2dPartitioner mesh_partitioner;
   char        mesh[2][PETSC_MAX_PATH_LEN];
   PetscInt    nbody; /* 0 = every physical surface is a body */
   Body        body[M2D_MAX_BODIES];

@@ -2,6 +2,7 @@
 #include "mesh.h"
 #include <petscsf.h>
 #include "msh.h"
+#include <metis.h>
 #include "util.h"
 #include <string.h>
 
@@ -212,6 +213,129 @@ static PetscErrorCode SetGroupLabels(DM dm, const Scene *s, MshMesh msh[2], cons
   PetscFunctionReturn(0);
 }
 
+/* The interpolated plex (cells, vertices, edges) straight from the cell list:
+ * the edges are found here from the vertex pairs, several times faster than
+ * DMPlexInterpolate on large meshes. Points: cells 0..nc-1, vertices
+ * nc..nc+nv-1, then the edges; an edge's cone is (lower vertex, higher
+ * vertex), a cell's cone its 4 edges in the order of its vertices, oriented 0
+ * when the edge runs along the cell's vertex order and -1 against it
+ * (DMPlexCheckFaces agrees: tests/test_mesh_plex.py). */
+static PetscErrorCode CreatePlex(MPI_Comm comm, PetscInt nc, PetscInt nv, const PetscInt cells[], const PetscReal coords[], DM *dm)
+{
+  PetscInt *ptr, *other, *sid, *edge, *ev, ne = 0, numPoints[3], *coneSize, *cones, *orient, np, k = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(nv + 1, &ptr));
+  PetscCall(PetscMalloc4(4 * nc + 1, &other, 4 * nc + 1, &sid, 4 * nc + 1, &edge, 8 * nc + 1, &ev));
+  for (PetscInt c = 0; c < nc; c++)
+    for (int j = 0; j < 4; j++) ptr[PetscMin(cells[4 * c + j], cells[4 * c + (j + 1) % 4]) + 1]++;
+  for (PetscInt v = 0; v < nv; v++) ptr[v + 1] += ptr[v];
+  for (PetscInt c = 0; c < nc; c++)
+    for (int j = 0; j < 4; j++) {
+      PetscInt a = cells[4 * c + j], b = cells[4 * c + (j + 1) % 4], lo = PetscMin(a, b);
+      other[ptr[lo]] = PetscMax(a, b);
+      sid[ptr[lo]++]  = 4 * c + j;
+    }
+  for (PetscInt v = nv; v > 0; v--) ptr[v] = ptr[v - 1];
+  ptr[0] = 0;
+  for (PetscInt v = 0; v < nv; v++)
+    for (PetscInt i = ptr[v]; i < ptr[v + 1]; i++) {
+      PetscInt e = -1;
+      for (PetscInt j = ptr[v]; j < i && e < 0; j++)
+        if (other[j] == other[i]) e = edge[sid[j]];
+      if (e < 0) {
+        e             = ne++;
+        ev[2 * e]     = v;
+        ev[2 * e + 1] = other[i];
+      }
+      edge[sid[i]] = e;
+    }
+  numPoints[0] = nv;
+  numPoints[1] = ne;
+  numPoints[2] = nc;
+  np           = nc + nv + ne;
+  PetscCall(PetscMalloc3(np + 1, &coneSize, 4 * nc + 2 * ne + 1, &cones, 4 * nc + 2 * ne + 1, &orient));
+  for (PetscInt c = 0; c < nc; c++) {
+    coneSize[c] = 4;
+    for (int j = 0; j < 4; j++, k++) {
+      PetscInt e = edge[4 * c + j];
+      cones[k]   = nc + nv + e;
+      orient[k]  = ev[2 * e] == cells[4 * c + j] ? 0 : -1;
+    }
+  }
+  for (PetscInt v = 0; v < nv; v++) coneSize[nc + v] = 0;
+  for (PetscInt e = 0; e < ne; e++, k += 2) {
+    coneSize[nc + nv + e] = 2;
+    cones[k]              = nc + ev[2 * e];
+    cones[k + 1]          = nc + ev[2 * e + 1];
+    orient[k] = orient[k + 1] = 0;
+  }
+  PetscCall(PetscFree(ptr));
+  PetscCall(PetscFree4(other, sid, edge, ev));
+  PetscCall(DMCreate(comm, dm));
+  PetscCall(DMSetType(*dm, DMPLEX));
+  PetscCall(DMSetDimension(*dm, 2));
+  {
+    PetscScalar *xy;
+    PetscCall(PetscMalloc1(2 * nv + 1, &xy));
+    for (PetscInt i = 0; i < 2 * nv; i++) xy[i] = coords[i];
+    PetscCall(DMPlexCreateFromDAG(*dm, 2, numPoints, coneSize, cones, orient, xy));
+    PetscCall(PetscFree(xy));
+  }
+  PetscCall(PetscFree3(coneSize, cones, orient));
+  PetscFunctionReturn(0);
+}
+
+/* -mesh_partitioner metis: libmetis splits the cells (graph: cells sharing an
+ * edge) on rank 0 and DMPlexDistribute gets the result as a shell partition */
+static PetscErrorCode PartitionMetis(DM dm, PetscMPIInt size, PetscPartitioner part)
+{
+  PetscInt  cStart, cEnd, nc, *sizes, *points;
+  idx_t    *xadj, *adj, *where, nvtx, ncon = 1, nparts = size, objval = 0, opts[METIS_NOPTIONS];
+  PetscInt  k = 0;
+  int       rc = METIS_OK;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  nc = cEnd - cStart;
+  PetscCall(PetscMalloc5(nc + 1, &xadj, 4 * nc + 1, &adj, nc + 1, &where, size, &sizes, nc + 1, &points));
+  xadj[0] = 0;
+  for (PetscInt c = cStart; c < cEnd; c++) {
+    const PetscInt *cone;
+    PetscInt        ncone;
+    PetscCall(DMPlexGetConeSize(dm, c, &ncone));
+    PetscCall(DMPlexGetCone(dm, c, &cone));
+    for (PetscInt j = 0; j < ncone; j++) {
+      const PetscInt *sup;
+      PetscInt        ns;
+      PetscCall(DMPlexGetSupportSize(dm, cone[j], &ns));
+      PetscCall(DMPlexGetSupport(dm, cone[j], &sup));
+      for (PetscInt i = 0; i < ns; i++)
+        if (sup[i] != c) adj[k++] = (idx_t)(sup[i] - cStart);
+    }
+    xadj[c - cStart + 1] = (idx_t)k;
+  }
+  nvtx = (idx_t)nc;
+  METIS_SetDefaultOptions(opts);
+  opts[METIS_OPTION_NUMBERING] = 0;
+  if (nc > 0) rc = nc >= size ? METIS_PartGraphRecursive(&nvtx, &ncon, xadj, adj, NULL, NULL, NULL, &nparts, NULL, NULL, opts, &objval, where) : METIS_ERROR_INPUT;
+  PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -mesh_partitioner metis: METIS_PartGraphRecursive failed (%d) on %" PetscInt_FMT " cells for %d ranks", rc, nc, (int)size);
+  PetscCall(PetscInfo(dm, "METIS: %" PetscInt_FMT " cells in %d parts, %ld cut edges\n", nc, (int)size, (long)objval));
+  for (PetscMPIInt p = 0; p < size; p++) sizes[p] = 0;
+  for (PetscInt c = 0; c < nc; c++) sizes[where[c]]++;
+  {
+    PetscInt off[1024];
+    PetscCheck(size <= 1024, PETSC_COMM_SELF, PETSC_ERR_SUP, "option -mesh_partitioner metis: at most 1024 ranks");
+    off[0] = 0;
+    for (PetscMPIInt p = 1; p < size; p++) off[p] = off[p - 1] + sizes[p - 1];
+    for (PetscInt c = 0; c < nc; c++) points[off[where[c]]++] = c + cStart;
+  }
+  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
+  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes, points));
+  PetscCall(PetscFree5(xadj, adj, where, sizes, points));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
 {
   PetscMPIInt rank, size;
@@ -255,7 +379,13 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   }
   PetscCall(PetscFree(ri));
 
-  PetscCall(DMPlexCreateFromCellListPetsc(comm, 2, nc, nv, 4, PETSC_TRUE, cells, 2, coords, &dm));
+  PetscCall(CreatePlex(comm, nc, nv, cells, coords, &dm));
+  if (s->mesh_check) { /* -mesh_check: PETSc's own consistency checks of the plex */
+    PetscCall(DMPlexCheckSymmetry(dm));
+    PetscCall(DMPlexCheckSkeleton(dm, 0));
+    PetscCall(DMPlexCheckFaces(dm, 0));
+    PetscCall(DMPlexCheckGeometry(dm));
+  }
   PetscCall(PetscObjectSetName((PetscObject)dm, "mesh"));
   PetscCall(DMCreateLabel(dm, "m2d:body"));
   for (PetscInt g = 0; g < m->ngroup; g++) {
@@ -264,13 +394,21 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
     PetscCall(DMCreateLabel(dm, lname));
   }
   err[0] = 0;
-  if (rank == 0) {
-    for (PetscInt c = 0; c < nc; c++) {
-      char lname[M2D_NAME_LEN + 8];
-      PetscCall(DMSetLabelValue(dm, "m2d:body", c, cellbody[c]));
-      LabelName(s->body[cellbody[c]].name, lname, sizeof(lname));
-      PetscCall(DMSetLabelValue(dm, lname, c, 1));
+  if (rank == 0) { /* the body of every cell, one stratum per body */
+    DMLabel   body;
+    PetscInt *pts, *cnt;
+    PetscCall(DMGetLabel(dm, "m2d:body", &body));
+    PetscCall(PetscCalloc2(nc + 1, &pts, s->nbody + 1, &cnt));
+    for (PetscInt b = 0; b < s->nbody; b++) {
+      IS       is;
+      PetscInt n = 0;
+      for (PetscInt c = 0; c < nc; c++)
+        if (cellbody[c] == b) pts[n++] = c;
+      PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, pts, PETSC_COPY_VALUES, &is)); /* the label keeps the IS */
+      PetscCall(DMLabelSetStratumIS(body, b, is));
+      PetscCall(ISDestroy(&is));
     }
+    PetscCall(PetscFree2(pts, cnt));
     PetscCall(SetGroupLabels(dm, s, msh, nodeoff, nodemap, nc, err, sizeof(err)));
   }
   for (int f = 0; f < 2; f++) MshFree(&msh[f]);
@@ -281,7 +419,8 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
     DM               dist = NULL;
     PetscPartitioner part;
     PetscCall(DMPlexGetPartitioner(dm, &part));
-    PetscCall(PetscPartitionerSetFromOptions(part));
+    if (s->mesh_partitioner == M2D_PARTITIONER_METIS) PetscCall(PartitionMetis(dm, size, part));
+    else PetscCall(PetscPartitionerSetFromOptions(part));
     PetscCall(DMPlexDistribute(dm, 0, NULL, &dist));
     if (dist) {
       PetscCall(DMDestroy(&dm));
@@ -293,24 +432,41 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   PetscCall(DMPlexGetDepthStratum(dm, 1, &m->eStart, &m->eEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 0, &m->vStart, &m->vEnd));
 
-  /* cell -> 4 vertices in closure order, body index */
+  /* cell -> 4 vertices (the first vertex of each cone edge, as the edge's
+   * orientation in the cell says), body index (by strata) */
   {
     PetscInt nlc = m->cEnd - m->cStart;
     DMLabel  body;
     PetscCall(PetscMalloc2(4 * nlc, &m->cellverts, nlc, &m->cellbody));
-    PetscCall(DMGetLabel(dm, "m2d:body", &body));
     for (PetscInt c = m->cStart; c < m->cEnd; c++) {
-      PetscInt *cl = NULL, ncl, k = 0;
-      PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &cl));
-      for (PetscInt i = 0; i < ncl; i++)
-        if (cl[2 * i] >= m->vStart && cl[2 * i] < m->vEnd) {
-          PetscCheck(k < 4, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " has more than 4 vertices", c);
-          m->cellverts[4 * (c - m->cStart) + k++] = cl[2 * i];
-        }
-      PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &cl));
-      PetscCheck(k == 4, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " has %" PetscInt_FMT " vertices", c, k);
-      PetscCall(DMLabelGetValue(body, c, &m->cellbody[c - m->cStart]));
+      const PetscInt *cone, *ornt;
+      PetscInt        ncone;
+      PetscCall(DMPlexGetConeSize(dm, c, &ncone));
+      PetscCheck(ncone == 4, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " has %" PetscInt_FMT " edges", c, ncone);
+      PetscCall(DMPlexGetCone(dm, c, &cone));
+      PetscCall(DMPlexGetConeOrientation(dm, c, &ornt));
+      for (int k = 0; k < 4; k++) {
+        const PetscInt *ev;
+        PetscCall(DMPlexGetCone(dm, cone[k], &ev));
+        m->cellverts[4 * (c - m->cStart) + k] = ornt[k] >= 0 ? ev[0] : ev[1];
+      }
+      m->cellbody[c - m->cStart] = -1;
     }
+    PetscCall(DMGetLabel(dm, "m2d:body", &body));
+    for (PetscInt b = 0; b < s->nbody; b++) {
+      IS              is;
+      const PetscInt *pts;
+      PetscInt        n;
+      PetscCall(DMLabelGetStratumIS(body, b, &is));
+      if (!is) continue;
+      PetscCall(ISGetLocalSize(is, &n));
+      PetscCall(ISGetIndices(is, &pts));
+      for (PetscInt i = 0; i < n; i++)
+        if (pts[i] >= m->cStart && pts[i] < m->cEnd) m->cellbody[pts[i] - m->cStart] = b;
+      PetscCall(ISRestoreIndices(is, &pts));
+      PetscCall(ISDestroy(&is));
+    }
+    for (PetscInt c = 0; c < nlc; c++) PetscCheck(m->cellbody[c] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " lost its body label", c + m->cStart);
   }
   /* edges owned by another rank (leaves of the point SF) */
   {
@@ -482,20 +638,20 @@ PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K)
       PetscCall(PetscFree2(sum, leafv));
     }
   }
-  PetscCall(PetscMalloc2(nloc / 2 + 1, &dnz, nloc / 2 + 1, &onz));
+  PetscCall(PetscMalloc2(nloc + 1, &dnz, nloc + 1, &onz));
   for (PetscInt v = 0; v < nv; v++)
     if (gdof[v] >= 0) {
-      PetscInt r = (gdof[v] - lo) / 2;
-      dnz[r]     = PetscMin(cnt[2 * (m->vStart + v)], nloc / 2);
-      onz[r]     = cnt[2 * (m->vStart + v) + 1];
+      PetscInt r = gdof[v] - lo;
+      dnz[r] = dnz[r + 1] = 2 * PetscMin(cnt[2 * (m->vStart + v)], nloc / 2);
+      onz[r] = onz[r + 1] = 2 * cnt[2 * (m->vStart + v) + 1];
       nrow++;
     }
   PetscCheck(2 * nrow == nloc, PETSC_COMM_SELF, PETSC_ERR_PLIB, "preallocation: %" PetscInt_FMT " owned vertices for %" PetscInt_FMT " dofs", nrow, nloc);
   PetscCall(MatCreate(comm, K));
   PetscCall(MatSetSizes(*K, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCall(MatSetBlockSize(*K, 2));
   PetscCall(MatSetType(*K, MATAIJ));
-  PetscCall(MatXAIJSetPreallocation(*K, 2, dnz, onz, NULL, NULL));
+  PetscCall(MatSeqAIJSetPreallocation(*K, 0, dnz));
+  PetscCall(MatMPIAIJSetPreallocation(*K, 0, dnz, 0, onz));
   PetscCall(DMGetLocalToGlobalMapping(m->dm, &ltog));
   PetscCall(MatSetLocalToGlobalMapping(*K, ltog, ltog));
   PetscCall(MatSetOption(*K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
