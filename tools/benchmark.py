@@ -6,11 +6,9 @@ seed_patch.opts, 1x, 2x, 4x, 8x) for every configuration
 
     method (mortar, nts) x path (condensed, full) x ranks (1, 2)
 
-where 2 ranks always take the full path (PETSc 3.18 cannot solve with a MUMPS
-Schur complement on more than one rank; the program switches by itself and says
-so): the 2-rank runs are made once per method, with the default request
-(condensed), and the path the program reports (summary "kkt_path") is recorded
--- they are not run twice. Per level also the REFERENCE: the same mesh tied
+(the condensed path calls MUMPS itself and runs on 1 and 2 ranks; the path the
+program reports, summary "kkt_path", is recorded). Per level also the
+REFERENCE: the same mesh tied
 (-contact_unilateral 0: every candidate node held closed, one linear KKT solve
 with MUMPS, the same solver), on 1 and 2 ranks. All configurations of one level
 run back-to-back, so the ratios of a level come from one stretch of machine time
@@ -30,11 +28,12 @@ time the script falls back to wait4 (and says so); if neither works it stops.
 
 Timings: the summary's time{mesh, contact, assembly, solve, output, total}
 (seconds, max over ranks); factorization = MatLUFactorSym + MatLUFactorNum
-(times summed over the log stages, max over ranks; counts), MatSolve time and
-count, from the -log_view file. On the condensed path the per-step dense
-n_lambda LU is the event MatLUFactor, which is NOT counted as factorization:
-it belongs to the active-set solves (= solve - factorization). wall_s is the
-wall time of the process (incl. MPI start-up) measured here.
+(PETSc's MUMPS interface: full path, reference) + M2dMumpsAnalysis +
+M2dMumpsFactor (the condensed path's own MUMPS calls), times summed over the
+log stages, max over ranks; order = the METIS ordering (M2dCondOrder on the
+condensed path, else M2dMetisOrder), from the -log_view file. The active-set
+solves are solve - order - factorization (substitutions, dense n_lambda LUs).
+wall_s is the wall time of the process (incl. MPI start-up) measured here.
 
 Errors: Hertz pressure_l2_rel (relative L2 error of the nodal pressure on
 [0, 1.5a]), |half_width - a| / a and |peak - p0| / p0; S1: contact force error
@@ -94,8 +93,10 @@ CONFIGS = [
     ("mortar-full-1r", "mortar", "full", 1, False),
     ("nts-condensed-1r", "nts", "condensed", 1, False),
     ("nts-full-1r", "nts", "full", 1, False),
-    ("mortar-2r", "mortar", "condensed", 2, False),   # the program takes the full path
-    ("nts-2r", "nts", "condensed", 2, False),
+    ("mortar-condensed-2r", "mortar", "condensed", 2, False),
+    ("mortar-full-2r", "mortar", "full", 2, False),
+    ("nts-condensed-2r", "nts", "condensed", 2, False),
+    ("nts-full-2r", "nts", "full", 2, False),
     ("tied-ref-1r", "mortar", "tied", 1, True),
     ("tied-ref-2r", "mortar", "tied", 2, True),
 ]
@@ -300,18 +301,22 @@ def measure(out, scene, level, cfg, timeout, idx, total):
     s = json.load(open(r["summary"]))
     ev = parse_log_view(r["log_view"])
     fs, fn = ev.get("MatLUFactorSym", (0, 0.0)), ev.get("MatLUFactorNum", (0, 0.0))
+    ma, mf = ev.get("M2dMumpsAnalysis", (0, 0.0)), ev.get("M2dMumpsFactor", (0, 0.0))
+    fs, fn = (fs[0] + ma[0], fs[1] + ma[1]), (fn[0] + mf[0], fn[1] + mf[1])
     ms = ev.get("MatSolve", (0, 0.0))
+    ms = (ms[0] + ev.get("M2dMumpsSolve", (0, 0.0))[0], ms[1] + ev.get("M2dMumpsSolve", (0, 0.0))[1])
+    t_order = ev.get("M2dCondOrder", ev.get("M2dMetisOrder", (0, 0.0)))[1]
     t = s["time"]
     row = {
         "scene": scene, "level": level, "dofs": s["dofs"], "config": name, "method": s.get("method", method),
         "path": ("tied" if ref else s.get("kkt_path", "?")), "path_requested": path,
-        "switched_msg": int("the condensed path needs 1 rank" in so),
+        "switched_msg": int("the condensed path needs" in so),
         "ranks": s["ranks"], "reference": ref,
         "iterations": s.get("iterations"), "active_nodes": s.get("active_nodes"),
         "contact_nodes": s.get("contact_nodes"),
         "t_mesh": t["mesh"], "t_contact": t["contact"], "t_assembly": t["assembly"],
         "t_solve": t["solve"], "t_output": t["output"], "t_total": t["total"],
-        "t_fact": fs[1] + fn[1], "n_fact_sym": fs[0], "n_fact_num": fn[0],
+        "t_fact": fs[1] + fn[1], "n_fact_sym": fs[0], "n_fact_num": fn[0], "t_order": t_order,
         "t_matsolve": ms[1], "n_matsolve": ms[0],
         "t_dense_lu": ev.get("MatLUFactor", (0, 0.0))[1],
         "wall_s": r["wall"], "cpu_s": r["cpu_s"], "peak_mb": r["peak_mb"], "peak_mb_sum": r["peak_mb_sum"],
@@ -409,10 +414,10 @@ def complete_levels(rows, scene):
 def report_speedup(rows, scene):
     levels = complete_levels(rows, scene)[-2:]
     print("\n(c) %s: 2-rank speedup = time on 1 rank / time on 2 ranks (>1: 2 ranks faster)" % scene)
-    pairs = [("mortar full", "mortar-full-1r", "mortar-2r"),
-             ("mortar cond(1r) vs full(2r)", "mortar-condensed-1r", "mortar-2r"),
-             ("nts full", "nts-full-1r", "nts-2r"),
-             ("nts cond(1r) vs full(2r)", "nts-condensed-1r", "nts-2r"),
+    pairs = [("mortar condensed", "mortar-condensed-1r", "mortar-condensed-2r"),
+             ("mortar full", "mortar-full-1r", "mortar-full-2r"),
+             ("nts condensed", "nts-condensed-1r", "nts-condensed-2r"),
+             ("nts full", "nts-full-1r", "nts-full-2r"),
              ("tied reference", "tied-ref-1r", "tied-ref-2r")]
     print("    %-30s %6s %8s %9s %9s %8s %9s %9s %8s" % ("pair", "level", "dofs", "solve1r", "solve2r",
                                                        "speedup", "total1r", "total2r", "speedup"))
@@ -430,11 +435,11 @@ def report_stages(rows, scene):
     comp = complete_levels(rows, scene)
     levels = sorted(set(comp[-2:]) | {l for l in {r["level"] for r in rows if r["scene"] == scene}
                                       if l not in comp and (not comp or l > comp[-1])})
-    print("\n(d) %s: where the time goes (seconds; fact = MatLUFactorSym+Num, as = active-set "
-          "solves = solve - fact;\n    #f = numeric factorizations; wall includes process and MPI "
-          "start-up; mem = peak RSS, max over ranks)" % scene)
-    hdr = "    %-5s %-20s %2s %8s %7s %7s %8s %8s %8s %3s %7s %8s %8s %8s %6s %5s" % (
-        "level", "config", "np", "dofs", "mesh", "contact", "assembly", "fact", "as", "#f",
+    print("\n(d) %s: where the time goes (seconds; order = METIS ordering, fact = analysis + "
+          "numeric factorization, as = active-set solves = solve - order - fact;\n    #f = numeric "
+          "factorizations; wall includes process and MPI start-up; mem = peak RSS, max over ranks)" % scene)
+    hdr = "    %-5s %-20s %2s %8s %7s %7s %8s %7s %8s %8s %3s %7s %8s %8s %8s %6s %5s" % (
+        "level", "config", "np", "dofs", "mesh", "contact", "assembly", "order", "fact", "as", "#f",
         "output", "total", "wall", "cpu", "mem", "steps")
     print(hdr)
     for lv in levels:
@@ -445,9 +450,9 @@ def report_stages(rows, scene):
                 r = find(rows, scene, lv, c[0])
                 if r is None:
                     continue
-                print("    %-5s %-20s %2d %8d %7.3f %7.4f %8.3f %8.3f %8.3f %3d %7.3f %8.3f %8.2f %8.2f %6.0f %5s" % (
-                    lv, c[0], r["ranks"], r["dofs"], r["t_mesh"], r["t_contact"], r["t_assembly"],
-                    r["t_fact"], r["t_solve"] - r["t_fact"], r["n_fact_num"], r["t_output"],
+                print("    %-5s %-20s %2d %8d %7.3f %7.4f %8.3f %7.3f %8.3f %8.3f %3d %7.3f %8.3f %8.2f %8.2f %6.0f %5s" % (
+                    lv, c[0], r["ranks"], r["dofs"], r["t_mesh"], r["t_contact"], r["t_assembly"], r["t_order"],
+                    r["t_fact"], r["t_solve"] - r["t_fact"] - r["t_order"], r["n_fact_num"], r["t_output"],
                     r["t_total"], r["wall_s"], r["cpu_s"], r["peak_mb"], r["iterations"]))
         print()
 
@@ -459,7 +464,7 @@ def reldiff(a, b):
 
 
 def report_same_answer(rows, scene, csv_checks):
-    print("\n(e) %s: condensed (1 rank) = full (1 rank) = full (2 ranks)? summary numbers, max "
+    print("\n(e) %s: condensed (1 rank) = full (1 rank) = condensed and full (2 ranks)? summary numbers, max "
           "relative difference (tolerance %.0e; iterations/active nodes exact)" % (scene, REL_TOL))
     keys = (["pressure_l2_rel", "peak_pressure", "half_width", "contact_force"] if scene == "hertz"
             else ["contact_force"])
@@ -470,14 +475,14 @@ def report_same_answer(rows, scene, csv_checks):
     for lv in levels:
         for m in ("mortar", "nts"):
             base = find(rows, scene, lv, m + "-condensed-1r")
-            for other in (m + "-full-1r", m + "-2r"):
+            for other in (m + "-full-1r", m + "-condensed-2r", m + "-full-2r"):
                 o = find(rows, scene, lv, other)
                 if base is None or o is None:
                     continue
                 d = [reldiff(base[k], o[k]) for k in keys]
                 same_it = base["iterations"] == o["iterations"]
                 same_act = base["active_nodes"] == o["active_nodes"]
-                ok = all(x <= REL_TOL for x in d) and same_it and same_act and o["path"] == "full"
+                ok = all(x <= REL_TOL for x in d) and same_it and same_act and o["path"] == other.split("-")[1]
                 ok_all &= ok
                 print("    %-6s %-7s %-22s " % (lv, m, "cond-1r vs " + other.split("-", 1)[1])
                       + " ".join("%15.1e" % x for x in d)
@@ -504,7 +509,7 @@ def csv_pressure_checks(out, scene, levels, timeout):
         for m in ("mortar", "nts"):
             data = {}
             for tag, path, ranks in (("condensed-1r", "condensed", 1), ("full-1r", "full", 1),
-                                     ("2r", "condensed", 2)):
+                                     ("condensed-2r", "condensed", 2), ("full-2r", "full", 2)):
                 d = os.path.join(out, "csvcheck", scene, "L%d" % lv, "%s-%s" % (m, tag))
                 args = (scene_args(scene, lv) + config_args(m, path)
                         + ["-output_vtu", "1", "-output_hdf5", "0", "-contact_monitor", "0",
@@ -516,7 +521,7 @@ def csv_pressure_checks(out, scene, levels, timeout):
                 a = np.atleast_1d(np.genfromtxt(f, delimiter=",", names=True))
                 data[tag] = a
             b = data["condensed-1r"]
-            for tag in ("full-1r", "2r"):
+            for tag in ("full-1r", "condensed-2r", "full-2r"):
                 o = data[tag]
                 same = len(o) == len(b) and np.allclose(o["x"], b["x"], rtol=0, atol=1e-12)
                 mr = (np.max(np.abs(o["pressure"] - b["pressure"])) / np.max(np.abs(b["pressure"]))
@@ -537,13 +542,13 @@ def plot(rows, png):
         return
     fig, axes = plt.subplots(1, 2, figsize=(15, 7.5))
     styles = {"mortar-condensed-1r": ("C0", "o", "-"), "mortar-full-1r": ("C0", "s", "--"),
-              "mortar-2r": ("C0", "^", ":"), "nts-condensed-1r": ("C3", "o", "-"),
-              "nts-full-1r": ("C3", "s", "--"), "nts-2r": ("C3", "^", ":")}
-    labels = {"mortar-condensed-1r": "mortar, condensed, 1 rank",
-              "mortar-full-1r": "mortar, full, 1 rank",
-              "mortar-2r": "mortar, full, 2 ranks (program's switch)",
+              "mortar-condensed-2r": ("C2", "^", "-"), "mortar-full-2r": ("C2", "v", "--"),
+              "nts-condensed-1r": ("C3", "o", "-"), "nts-full-1r": ("C3", "s", "--"),
+              "nts-condensed-2r": ("C1", "^", "-"), "nts-full-2r": ("C1", "v", "--")}
+    labels = {"mortar-condensed-1r": "mortar, condensed, 1 rank", "mortar-full-1r": "mortar, full, 1 rank",
+              "mortar-condensed-2r": "mortar, condensed, 2 ranks", "mortar-full-2r": "mortar, full, 2 ranks",
               "nts-condensed-1r": "NTS, condensed, 1 rank", "nts-full-1r": "NTS, full, 1 rank",
-              "nts-2r": "NTS, full, 2 ranks (program's switch)"}
+              "nts-condensed-2r": "NTS, condensed, 2 ranks", "nts-full-2r": "NTS, full, 2 ranks"}
     for ax, key, title in ((axes[0], "t_solve", "against solve time (summary time.solve)"),
                            (axes[1], "t_total", "against total time (summary time.total)")):
         for cfg, (col, mk, ls) in styles.items():
@@ -632,7 +637,7 @@ def orderings(out, level, timeout):
             ev = parse_log_view(r["log_view"])
             mu = parse_mumps(so)
             rows.append({"config": cfgname, "ordering": lab, "failed": False, "dofs": s["dofs"],
-                         "t_fact": ev.get("MatLUFactorSym", (0, 0))[1] + ev.get("MatLUFactorNum", (0, 0))[1],
+                         "t_fact": sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "M2dMumpsAnalysis", "M2dMumpsFactor")),
                          "t_solve": s["time"]["solve"], "t_total": s["time"]["total"],
                          "iterations": s.get("iterations"), "peak_mb": r["peak_mb"],
                          "pressure_l2_rel": s.get("pressure_l2_rel"), **mu})
@@ -661,13 +666,17 @@ def orderings(out, level, timeout):
             w.writerow(x)
 
     # partitioners, 2 ranks, tied reference
-    print("\n(g) partitioners on 2 ranks, tied reference at Hertz level %d (-petscpartitioner_type)" % level)
-    cands = ["ptscotch", "simple", "parmetis", "chaco", "matpartitioning", "gather"]
+    print("\n(g) partitioners on 2 ranks, tied reference at Hertz level %d (-mesh_partitioner metis: libmetis "
+          "shell partition; the others -mesh_partitioner petsc -petscpartitioner_type X)" % level)
+    cands = ["metis", "ptscotch", "simple", "parmetis", "chaco", "matpartitioning", "gather"]
+
+    def part_args(p):
+        return ["-mesh_partitioner", "metis"] if p == "metis" else ["-mesh_partitioner", "petsc", "-petscpartitioner_type", p]
     avail = []
     for p in cands:
         d = os.path.join(out, "partitioners", "probe", p)
         r = run_program(d, scene_args("hertz", 0) + config_args("mortar", "tied") + QUIET
-                        + ["-petscpartitioner_type", p], 2, 300, log_view=False)
+                        + part_args(p), 2, 300, log_view=False)
         if r["rc"] == 0:
             avail.append(p)
         else:
@@ -682,14 +691,14 @@ def orderings(out, level, timeout):
     for p in avail:
         d = os.path.join(out, "partitioners", "L%d" % level, p)
         r = run_program(d, scene_args("hertz", level) + config_args("mortar", "tied") + QUIET
-                        + ["-petscpartitioner_type", p], 2, timeout)
+                        + part_args(p), 2, timeout)
         if r["rc"] != 0:
             print("    %-16s FAILED rc %d" % (p, r["rc"]))
             continue
         s = json.load(open(r["summary"]))
         ev = parse_log_view(r["log_view"])
         t = s["time"]
-        fct = ev.get("MatLUFactorSym", (0, 0))[1] + ev.get("MatLUFactorNum", (0, 0))[1]
+        fct = sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "M2dMumpsAnalysis", "M2dMumpsFactor"))
         prow.append({"partitioner": p, **t, "fact": fct, "wall": r["wall"], "peak_mb": r["peak_mb"],
                      "peak_mb_sum": r["peak_mb_sum"], "load1": r["load1"]})
         print("    %-16s %8.3f %8.3f %9.3f %8.3f %8.3f %8.2f %8.0f %8.0f %8.1f" % (
@@ -807,11 +816,12 @@ def main():
             w.writerow([("%.6e" % r[c]) if isinstance(r[c], float) else r[c] for c in cols])
     print("\nCSV: %s (%d runs, %.1f s)" % (path, len(rows), t_runs))
 
-    # consistency of what the program reports for 2 ranks
+    # every run took the path it asked for
     for r in rows:
-        if r["ranks"] == 2 and not r["reference"] and (r["path"] != "full" or not r["switched_msg"]):
-            print("NOTE: %s %s L%d on 2 ranks reports path %s, switch message %s" % (
-                r["scene"], r["config"], r["level"], r["path"], bool(r["switched_msg"])))
+        if not r["reference"] and (r["path"] != r["path_requested"] or r["switched_msg"]):
+            print("NOTE: %s %s L%d on %d rank(s) asked for %s, reports path %s, switch message %s" % (
+                r["scene"], r["config"], r["level"], r["ranks"], r["path_requested"], r["path"],
+                bool(r["switched_msg"])))
 
     checks = []
     cl = [int(x) for x in a.csv_check_levels.split(",") if x.strip()]
