@@ -147,6 +147,8 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
   PetscScalar    *a, *S = NULL;
   PetscLogDouble  t0;
+  PetscBool       ldlt = PETSC_TRUE;
+  int             sym;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(cs, sizeof(*cs)));
@@ -157,8 +159,10 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscOptionsBegin(comm, NULL, "Condensed path (MUMPS called directly)", NULL);
   PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "MUMPS output level of the condensed path's factorization (0: none, 2: statistics)", NULL, icntl4, &icntl4, NULL));
+  PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2; half the flops of LU)", NULL, ldlt, &ldlt, NULL));
   PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "MUMPS working space increase of the condensed path (percent)", NULL, icntl14, &icntl14, NULL));
   PetscOptionsEnd();
+  sym = ldlt ? 2 : 0;
 
   t0 = MPI_Wtime();
   /* the multipliers: global indices of A, in the order of kkt->r (rank by rank) */
@@ -185,10 +189,11 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCall(MatGetOwnershipRange(kkt->A, &rs, &re));
   PetscCall(MatGetSize(kkt->A, &M, NULL));
   for (PetscInt i = rs; i < re; i++) {
-    PetscInt nc;
-    PetscCall(MatGetRow(kkt->A, i, &nc, NULL, NULL));
-    nnz += nc;
-    PetscCall(MatRestoreRow(kkt->A, i, &nc, NULL, NULL));
+    PetscInt        nc;
+    const PetscInt *cols;
+    PetscCall(MatGetRow(kkt->A, i, &nc, &cols, NULL));
+    for (PetscInt j = 0; j < nc; j++) nnz += !sym || cols[j] >= i;
+    PetscCall(MatRestoreRow(kkt->A, i, &nc, &cols, NULL));
   }
   PetscCall(PetscMalloc3(nnz + 1, &irn, nnz + 1, &jcn, nnz + 1, &a));
   for (PetscInt i = rs; i < re; i++) {
@@ -196,10 +201,11 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
     const PetscInt    *cols;
     const PetscScalar *v;
     PetscCall(MatGetRow(kkt->A, i, &nc, &cols, &v));
-    for (PetscInt j = 0; j < nc; j++, k++) {
+    for (PetscInt j = 0; j < nc; j++) {
+      if (sym && cols[j] < i) continue; /* symmetric: the upper triangle */
       irn[k] = (MUMPS_INT)(i + 1);
       jcn[k] = (MUMPS_INT)(cols[j] + 1);
-      a[k]   = v[j];
+      a[k++] = v[j];
     }
     PetscCall(MatRestoreRow(kkt->A, i, &nc, &cols, &v));
   }
@@ -209,7 +215,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCallMPI(MPI_Comm_dup(comm, &mu->comm));
   mu->id.comm_fortran = (MUMPS_INT)MPI_Comm_c2f(mu->comm);
   mu->id.par          = 1;
-  mu->id.sym          = 0;
+  mu->id.sym          = (MUMPS_INT)sym;
   PetscCall(MumpsCall(mu, -1, "initialisation"));
   mu->id.ICNTL(1)  = icntl4 > 0 ? 6 : -1;
   mu->id.ICNTL(2)  = -1;
@@ -263,6 +269,9 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
       }
     }
     PetscCall(PetscMPIIntCast(cs->n * cs->N, &nr));
+    if (rank == 0 && sym) /* MUMPS returns the lower triangle, by rows: mirror it */
+      for (PetscInt i = 0; i < cs->N; i++)
+        for (PetscInt j = i + 1; j < cs->N; j++) S[i * cs->N + j] = S[j * cs->N + i];
     PetscCallMPI(MPI_Scatterv(S, rc2, d2, MPIU_SCALAR, buf, nr, MPIU_SCALAR, 0, comm));
     for (PetscInt i = 0; i < cs->n; i++)
       for (PetscInt j = 0; j < cs->N; j++) cs->S[i + j * cs->n] = buf[i * cs->N + j];

@@ -103,7 +103,10 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
   PetscFunctionReturn(0);
 }
 
-/* defaults: a direct solve with MUMPS; -ksp_type/-pc_type override */
+/* defaults for the linear solves (no contact, or tied): the matrix is
+ * symmetric, MUMPS LDL^T (PCCHOLESKY, SYM = 2), as the condensed path; PETSc
+ * 3.18 hands MUMPS no ordering for a Cholesky factor (MUMPS picks PORD), the
+ * METIS ordering applies to -pc_type lu; -ksp_type/-pc_type override */
 static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
 {
   PC pc;
@@ -111,7 +114,7 @@ static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCSetType(pc, PCCHOLESKY));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(KSPSetFromOptions(ksp));
   PetscCall(M2dOrderingSetupKSP(ksp, ord));

@@ -1,8 +1,8 @@
 """Fast path = robust path, and the METIS ordering changes nothing but speed:
- - Hertz levels 0-2 and the eccentric S2 load, each solved four ways on one
+ - Hertz levels 0-2 and the eccentric S2 load, each solved five ways on one
    rank: -kkt_path condensed (one factorization, steps on the multipliers) and
    full (the KKT matrix refactored each step), each with -kkt_ordering metis
-   and mumps. Same number of active-set steps and the same active set; the
+   and mumps, and the condensed path with LU instead of LDL^T (-kkt_ldlt 0). Same number of active-set steps and the same active set; the
    displacement and the contact pressure agree to 1e-9 of their maxima;
  - the condensed path's recovered displacement satisfies K u + C^T lambda = f
    to 1e-10 of |f| (printed under -contact_monitor);
@@ -14,7 +14,7 @@ import re
 import numpy as np
 from m2d import check, mesh, opts, read_h5, run, solve, sorted_fields, workdir
 
-ways = [("condensed", "metis"), ("condensed", "mumps"), ("full", "metis"), ("full", "mumps")]
+ways = [("condensed", "metis"), ("condensed", "mumps"), ("full", "metis"), ("full", "mumps"), ("condensed-lu", "metis")]
 cases = [("hertz_%d" % lv, ["-options_file", opts("hertz"), "-mesh", mesh("hertz_%d" % lv)]) for lv in (0, 1, 2)]
 cases.append(("s2_eccentric", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_10_31"), "-pressure", "upper_top:-1e6:4e6:0", "-exact", "none"]))
 
@@ -22,7 +22,8 @@ for name, base in cases:
     res = {}
     for path, order in ways:
         tag = "paths_%s_%s_%s" % (name, path, order)
-        s = solve(tag, base + ["-kkt_path", path, "-kkt_ordering", order, "-output_vtu", "0", "-output_name", "sol"])
+        extra = ["-kkt_ldlt", "0"] if path == "condensed-lu" else []  # the condensed path's LU instead of LDL^T
+        s = solve(tag, base + ["-kkt_path", path.split("-")[0], "-kkt_ordering", order, "-output_vtu", "0", "-output_name", "sol"] + extra)
         _, _, vf, _ = read_h5(workdir(tag) + "/sol.h5")
         res[(path, order)] = (s, vf)
     s0, v0 = res[("full", "mumps")]
@@ -31,7 +32,7 @@ for name, base in cases:
     for (path, order), (s, vf) in res.items():
         if (path, order) == ("full", "mumps"):
             continue
-        check(s["kkt_path"] == path, "%s %s/%s: ran the %s path" % (name, path, order, s["kkt_path"]))
+        check(s["kkt_path"] == path.split("-")[0], "%s %s/%s: ran the %s path" % (name, path, order, s["kkt_path"]))
         check(s["iterations"] == s0["iterations"] and s["active_nodes"] == s0["active_nodes"],
               "%s %s/%s: %d steps, %d active (full/mumps: %d, %d)" % (name, path, order, s["iterations"], s["active_nodes"], s0["iterations"], s0["active_nodes"]))
         du = np.abs(vf["displacement"] - u0).max() / np.abs(u0).max()
