@@ -2,10 +2,12 @@
  *
  * Rank 0 reads the .msh file(s) with the strict reader (msh.h), validates them
  * (quads only, positive corner Jacobians, every physical name the options ask
- * for), merges the files, and builds an interpolated DMPlex from the cell list.
- * Each gmsh physical group becomes a DMLabel "m2d:NAME" (value 1) on cells,
- * edges or vertices; label "m2d:body" holds the body index of each cell.
- * The plex is then distributed; one vertex carries the 2 displacement dofs. */
+ * for), merges the files, and builds the interpolated DMPlex from the cell
+ * list (its own edge finder: DMPlexCreateFromDAG, no DMPlexInterpolate).
+ * Each physical curve or point becomes a DMLabel "m2d:NAME" (value 1) on edges
+ * or vertices. The plex is distributed (libmetis partition by default); the
+ * body index of each cell travels along the migration SF (no label). One
+ * vertex carries the 2 displacement dofs. */
 #ifndef M2D_MESH_H
 #define M2D_MESH_H
 #include <petscdmplex.h>

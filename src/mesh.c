@@ -342,7 +342,8 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   ReadInfo   *ri;
   MshMesh     msh[2];
   long        nodeoff[3] = {0, 0, 0}, *nodemap = NULL;
-  PetscInt    nc = 0, nv = 0, *cells = NULL, *cellbody = NULL;
+  PetscInt    nc = 0, nv = 0, *cells = NULL, *cellbody = NULL, *pbody = NULL;
+  PetscSF     mig = NULL;
   PetscReal  *coords = NULL;
   DM          dm;
   char        err[2048];
@@ -387,30 +388,19 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
     PetscCall(DMPlexCheckGeometry(dm));
   }
   PetscCall(PetscObjectSetName((PetscObject)dm, "mesh"));
-  PetscCall(DMCreateLabel(dm, "m2d:body"));
   for (PetscInt g = 0; g < m->ngroup; g++) {
     char lname[M2D_NAME_LEN + 8];
     LabelName(m->group[g], lname, sizeof(lname));
     PetscCall(DMCreateLabel(dm, lname));
   }
   err[0] = 0;
-  if (rank == 0) { /* the body of every cell, one stratum per body */
-    DMLabel   body;
-    PetscInt *pts, *cnt;
-    PetscCall(DMGetLabel(dm, "m2d:body", &body));
-    PetscCall(PetscCalloc2(nc + 1, &pts, s->nbody + 1, &cnt));
-    for (PetscInt b = 0; b < s->nbody; b++) {
-      IS       is;
-      PetscInt n = 0;
-      for (PetscInt c = 0; c < nc; c++)
-        if (cellbody[c] == b) pts[n++] = c;
-      PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, pts, PETSC_COPY_VALUES, &is)); /* the label keeps the IS */
-      PetscCall(DMLabelSetStratumIS(body, b, is));
-      PetscCall(ISDestroy(&is));
-    }
-    PetscCall(PetscFree2(pts, cnt));
-    PetscCall(SetGroupLabels(dm, s, msh, nodeoff, nodemap, nc, err, sizeof(err)));
+  { /* the body of every point (cells; -1 elsewhere), carried along by the distribution */
+    PetscInt pStart, pEnd;
+    PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+    PetscCall(PetscMalloc1(pEnd + 1, &pbody));
+    for (PetscInt p = 0; p < pEnd; p++) pbody[p] = p < nc ? cellbody[p] : -1;
   }
+  if (rank == 0) PetscCall(SetGroupLabels(dm, s, msh, nodeoff, nodemap, nc, err, sizeof(err)));
   for (int f = 0; f < 2; f++) MshFree(&msh[f]);
   free(nodemap); free(cells); free(coords); free(cellbody);
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
@@ -421,11 +411,20 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
     PetscCall(DMPlexGetPartitioner(dm, &part));
     if (s->mesh_partitioner == M2D_PARTITIONER_METIS) PetscCall(PartitionMetis(dm, size, part));
     else PetscCall(PetscPartitionerSetFromOptions(part));
-    PetscCall(DMPlexDistribute(dm, 0, NULL, &dist));
+    PetscCall(DMPlexDistribute(dm, 0, &mig, &dist));
     if (dist) {
+      PetscInt  pStart, pEnd, *nb;
+      PetscCall(DMPlexGetChart(dist, &pStart, &pEnd));
+      PetscCall(PetscMalloc1(pEnd + 1, &nb));
+      for (PetscInt p = 0; p < pEnd; p++) nb[p] = -1;
+      PetscCall(PetscSFBcastBegin(mig, MPIU_INT, pbody, nb, MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(mig, MPIU_INT, pbody, nb, MPI_REPLACE));
+      PetscCall(PetscFree(pbody));
+      pbody = nb;
       PetscCall(DMDestroy(&dm));
       dm = dist;
     }
+    PetscCall(PetscSFDestroy(&mig));
   }
   m->dm = dm;
   PetscCall(DMPlexGetHeightStratum(dm, 0, &m->cStart, &m->cEnd));
@@ -433,10 +432,9 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   PetscCall(DMPlexGetDepthStratum(dm, 0, &m->vStart, &m->vEnd));
 
   /* cell -> 4 vertices (the first vertex of each cone edge, as the edge's
-   * orientation in the cell says), body index (by strata) */
+   * orientation in the cell says), body index */
   {
     PetscInt nlc = m->cEnd - m->cStart;
-    DMLabel  body;
     PetscCall(PetscMalloc2(4 * nlc, &m->cellverts, nlc, &m->cellbody));
     for (PetscInt c = m->cStart; c < m->cEnd; c++) {
       const PetscInt *cone, *ornt;
@@ -450,23 +448,10 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
         PetscCall(DMPlexGetCone(dm, cone[k], &ev));
         m->cellverts[4 * (c - m->cStart) + k] = ornt[k] >= 0 ? ev[0] : ev[1];
       }
-      m->cellbody[c - m->cStart] = -1;
+      m->cellbody[c - m->cStart] = pbody[c];
+      PetscCheck(pbody[c] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " lost its body", c);
     }
-    PetscCall(DMGetLabel(dm, "m2d:body", &body));
-    for (PetscInt b = 0; b < s->nbody; b++) {
-      IS              is;
-      const PetscInt *pts;
-      PetscInt        n;
-      PetscCall(DMLabelGetStratumIS(body, b, &is));
-      if (!is) continue;
-      PetscCall(ISGetLocalSize(is, &n));
-      PetscCall(ISGetIndices(is, &pts));
-      for (PetscInt i = 0; i < n; i++)
-        if (pts[i] >= m->cStart && pts[i] < m->cEnd) m->cellbody[pts[i] - m->cStart] = b;
-      PetscCall(ISRestoreIndices(is, &pts));
-      PetscCall(ISDestroy(&is));
-    }
-    for (PetscInt c = 0; c < nlc; c++) PetscCheck(m->cellbody[c] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "cell %" PetscInt_FMT " lost its body label", c + m->cStart);
+    PetscCall(PetscFree(pbody));
   }
   /* edges owned by another rank (leaves of the point SF) */
   {
