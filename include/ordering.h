@@ -25,6 +25,7 @@ typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS } M2dOrdering;
  * `last` (may be NULL) come last, in the order of `last` */
 PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos);
 /* on one rank with PCLU + MUMPS and ord == METIS: the PC's factorization gets
- * the METIS ordering (registered as the MatOrdering "m2d_metis"); else nothing */
-PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord);
+ * the METIS ordering (registered as the MatOrdering "m2d_metis"; *applied set,
+ * may be NULL); else nothing */
+PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *applied);
 #endif

@@ -437,7 +437,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCall(PCShellSetApply(pc, DensePCApply));
     PetscCall(PCShellSetName(pc, "dense LU of the reduced Jacobian (LAPACK, every rank)"));
     info->factor_time = x.cond->factor_time;
-  } else PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering));
+  } else PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering, NULL));
   PetscCall(VecDuplicate(kkt->x, &z));
   PetscCall(VecDuplicate(kkt->x, &F));
   PetscCall(VecZeroEntries(z));

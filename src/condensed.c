@@ -142,7 +142,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
   PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
   M2dMumps       *mu;
-  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4 = 0, icntl14 = 20, k = 0;
+  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4 = 0, icntl7 = 7, icntl14 = 20, k = 0;
   const PetscInt *il;
   MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
   PetscScalar    *a, *S = NULL;
@@ -160,6 +160,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscOptionsBegin(comm, NULL, "Condensed path (MUMPS called directly)", NULL);
   PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "MUMPS output level of the condensed path's factorization (0: none, 2: statistics)", NULL, icntl4, &icntl4, NULL));
   PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2; half the flops of LU)", NULL, ldlt, &ldlt, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path with -kkt_ordering mumps: MUMPS' ordering (with a Schur complement MUMPS uses AMD whatever is asked)", NULL, icntl7, &icntl7, NULL));
   PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "MUMPS working space increase of the condensed path (percent)", NULL, icntl14, &icntl14, NULL));
   PetscOptionsEnd();
   sym = ldlt ? 2 : 0;
@@ -221,7 +222,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   mu->id.ICNTL(2)  = -1;
   mu->id.ICNTL(3)  = icntl4 > 0 ? 6 : -1;
   mu->id.ICNTL(4)  = (MUMPS_INT)icntl4;
-  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : 7; /* 7: MUMPS' choice (AMD with a Schur complement) */
+  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : (MUMPS_INT)icntl7;
   mu->id.ICNTL(14) = (MUMPS_INT)icntl14;
   mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
   mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */

@@ -104,12 +104,14 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
 }
 
 /* defaults for the linear solves (no contact, or tied): the matrix is
- * symmetric, MUMPS LDL^T (PCCHOLESKY, SYM = 2), as the condensed path; PETSc
- * 3.18 hands MUMPS no ordering for a Cholesky factor (MUMPS picks PORD), the
- * METIS ordering applies to -pc_type lu; -ksp_type/-pc_type override */
+ * symmetric, MUMPS LDL^T (PCCHOLESKY, SYM = 2), as the condensed path. PETSc
+ * 3.18 hands MUMPS no ordering for a Cholesky factor: MUMPS orders with AMF
+ * (its automatic choice, PORD, is slower here); the METIS ordering applies to
+ * -pc_type lu on one rank; -ksp_type/-pc_type/-mat_mumps_* override */
 static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
 {
-  PC pc;
+  PC        pc;
+  PetscBool metis, opset;
 
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPPREONLY));
@@ -117,7 +119,26 @@ static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
   PetscCall(PCSetType(pc, PCCHOLESKY));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(KSPSetFromOptions(ksp));
-  PetscCall(M2dOrderingSetupKSP(ksp, ord));
+  {
+    PetscBool factor, chosen;
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-pc_factor_mat_solver_type", &chosen));
+    if (factor && !chosen) PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS)); /* -pc_type lu alone: still MUMPS */
+  }
+  PetscCall(M2dOrderingSetupKSP(ksp, ord, &metis));
+  PetscCall(KSPGetOperatorsSet(ksp, &opset, NULL));
+  if (opset && !metis) { /* MUMPS orders itself: AMF unless -mat_mumps_icntl_7 says otherwise
+                          * (level 5 tied: AMF 7.4 s, AMD 8.1 s, PORD - MUMPS' automatic choice - 8.9 s) */
+    PetscBool     factor, given;
+    MatSolverType st;
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-mat_mumps_icntl_7", &given));
+    if (factor && !given) {
+      PetscCall(PCFactorGetMatSolverType(pc, &st));
+      /* through the options database: PETSc 3.18 re-initialises MUMPS at the symbolic factorization */
+      if (st && !strcmp(st, MATSOLVERMUMPS)) PetscCall(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_7", "2"));
+    }
+  }
   PetscFunctionReturn(0);
 }
 

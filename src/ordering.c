@@ -135,7 +135,7 @@ static PetscErrorCode MatGetOrdering_M2dMetis(Mat A, MatOrderingType type, IS *r
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord)
+PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *applied)
 {
   static PetscBool registered = PETSC_FALSE;
   PC               pc;
@@ -144,6 +144,7 @@ PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord)
   MatSolverType    st;
 
   PetscFunctionBeginUser;
+  if (applied) *applied = PETSC_FALSE;
   if (ord != M2D_ORDERING_METIS) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)ksp), &size));
   if (size > 1) PetscFunctionReturn(0);
@@ -158,5 +159,6 @@ PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord)
     registered = PETSC_TRUE;
   }
   PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGM2DMETIS));
+  if (applied) *applied = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

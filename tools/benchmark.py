@@ -301,6 +301,8 @@ def measure(out, scene, level, cfg, timeout, idx, total):
     s = json.load(open(r["summary"]))
     ev = parse_log_view(r["log_view"])
     fs, fn = ev.get("MatLUFactorSym", (0, 0.0)), ev.get("MatLUFactorNum", (0, 0.0))
+    cs_, cn_ = ev.get("MatCholFctrSym", (0, 0.0)), ev.get("MatCholFctrNum", (0, 0.0))   # LDL^T (linear solves)
+    fs, fn = (fs[0] + cs_[0], fs[1] + cs_[1]), (fn[0] + cn_[0], fn[1] + cn_[1])
     ma, mf = ev.get("M2dMumpsAnalysis", (0, 0.0)), ev.get("M2dMumpsFactor", (0, 0.0))
     fs, fn = (fs[0] + ma[0], fs[1] + ma[1]), (fn[0] + mf[0], fn[1] + mf[1])
     ms = ev.get("MatSolve", (0, 0.0))
@@ -412,7 +414,6 @@ def complete_levels(rows, scene):
 
 
 def report_speedup(rows, scene):
-    levels = complete_levels(rows, scene)[-2:]
     print("\n(c) %s: 2-rank speedup = time on 1 rank / time on 2 ranks (>1: 2 ranks faster)" % scene)
     pairs = [("mortar condensed", "mortar-condensed-1r", "mortar-condensed-2r"),
              ("mortar full", "mortar-full-1r", "mortar-full-2r"),
@@ -421,11 +422,11 @@ def report_speedup(rows, scene):
              ("tied reference", "tied-ref-1r", "tied-ref-2r")]
     print("    %-30s %6s %8s %9s %9s %8s %9s %9s %8s" % ("pair", "level", "dofs", "solve1r", "solve2r",
                                                        "speedup", "total1r", "total2r", "speedup"))
-    for lv in levels:
-        for lab, a, b in pairs:
+    alllv = sorted({r["level"] for r in rows if r["scene"] == scene})
+    for lab, a, b in pairs:   # the two largest levels at which the pair ran
+        both = [lv for lv in alllv if find(rows, scene, lv, a) and find(rows, scene, lv, b)]
+        for lv in both[-2:]:
             ra, rb = find(rows, scene, lv, a), find(rows, scene, lv, b)
-            if ra is None or rb is None:
-                continue
             print("    %-30s %6s %8d %9.3f %9.3f %8.2f %9.3f %9.3f %8.2f" % (
                 lab, lv, ra["dofs"], ra["t_solve"], rb["t_solve"], ra["t_solve"] / rb["t_solve"],
                 ra["t_total"], rb["t_total"], ra["t_total"] / rb["t_total"]))
@@ -637,7 +638,7 @@ def orderings(out, level, timeout):
             ev = parse_log_view(r["log_view"])
             mu = parse_mumps(so)
             rows.append({"config": cfgname, "ordering": lab, "failed": False, "dofs": s["dofs"],
-                         "t_fact": sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "M2dMumpsAnalysis", "M2dMumpsFactor")),
+                         "t_fact": sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "MatCholFctrSym", "MatCholFctrNum", "M2dMumpsAnalysis", "M2dMumpsFactor")),
                          "t_solve": s["time"]["solve"], "t_total": s["time"]["total"],
                          "iterations": s.get("iterations"), "peak_mb": r["peak_mb"],
                          "pressure_l2_rel": s.get("pressure_l2_rel"), **mu})
@@ -698,7 +699,7 @@ def orderings(out, level, timeout):
         s = json.load(open(r["summary"]))
         ev = parse_log_view(r["log_view"])
         t = s["time"]
-        fct = sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "M2dMumpsAnalysis", "M2dMumpsFactor"))
+        fct = sum(ev.get(k, (0, 0))[1] for k in ("MatLUFactorSym", "MatLUFactorNum", "MatCholFctrSym", "MatCholFctrNum", "M2dMumpsAnalysis", "M2dMumpsFactor"))
         prow.append({"partitioner": p, **t, "fact": fct, "wall": r["wall"], "peak_mb": r["peak_mb"],
                      "peak_mb_sum": r["peak_mb_sum"], "load1": r["load1"]})
         print("    %-16s %8.3f %8.3f %9.3f %8.3f %8.3f %8.2f %8.0f %8.0f %8.1f" % (
