@@ -34,8 +34,11 @@ PetscErrorCode MeshDestroy(Mesh *m);
 PetscInt       MeshGroupDim(const Mesh *m, const char *name);
 /* Local points of a group: for curves the edges, for points the vertices.
  * Errors with a message naming `option` if the group does not exist. */
-/* the stiffness matrix: AIJ, block size 2, preallocated from the cells, local-to-global map of the DM */
-PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K);
+/* the stiffness matrix: AIJ, preallocated from the cells, local-to-global map
+ * of the DM; plus the couplings within each of the ngrp groups of global dofs
+ * gdofs[gptr[j] .. gptr[j+1]-1] (the contact rows: K + g C^T C then keeps K's
+ * pattern), stored as explicit zeros. ngrp may be 0. */
+PetscErrorCode MeshCreateMatrix(const Mesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
 PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *option, IS *is);
 /* Cell coordinates, counter-clockwise: xy[8] */
 void MeshCellCoordinates(const Mesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);

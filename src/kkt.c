@@ -91,7 +91,7 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
     sc /= PetscMax(1, 2 * kkt->nlam);
     kkt->gamma = sc > 0 ? s->kkt_augment * sk / sc : 0;
     PetscCall(MatDuplicate(K, MAT_COPY_VALUES, &kkt->Kblk));
-    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, DIFFERENT_NONZERO_PATTERN));
+    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN)); /* K holds C^T C's pattern (MeshCreateMatrix) */
     PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
     PetscCall(VecAXPY(fk, kkt->gamma, dk));
     PetscCall(VecDestroy(&dk));

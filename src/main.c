@@ -209,7 +209,8 @@ static PetscErrorCode Run(MPI_Comm comm)
 
   PetscCall(PetscLogStagePush(stage[ST_ASSEMBLY]));
   t[ST_ASSEMBLY] = M2dWallTime();
-  PetscCall(MeshCreateMatrix(&m, &K));
+  if (has_contact) PetscCall(MeshCreateMatrix(&m, contact.R.n, contact.R.ptr, contact.R.col, &K));
+  else PetscCall(MeshCreateMatrix(&m, 0, NULL, NULL, &K));
   PetscCall(DMCreateGlobalVector(m.dm, &f));
   PetscCall(VecDuplicate(f, &u));
   PetscCall(PetscObjectSetName((PetscObject)u, "displacement"));

@@ -763,7 +763,7 @@ void MeshCellCoordinates(const Mesh *m, const PetscScalar *a, PetscSection csec,
 /* K with an exact preallocation from the cell -> vertex lists (2 dofs per
  * vertex). Rows of vertices shared with another rank also receive that rank's
  * cells: their counts add the other rank's (over-estimates, never under). */
-PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K)
+PetscErrorCode MeshCreateMatrix(const Mesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K)
 {
   MPI_Comm               comm = PetscObjectComm((PetscObject)m->dm);
   PetscSection           gsec;
@@ -836,6 +836,13 @@ PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K)
       nrow++;
     }
   PetscCheck(2 * nrow == nloc, PETSC_COMM_SELF, PETSC_ERR_PLIB, "preallocation: %" PetscInt_FMT " owned vertices for %" PetscInt_FMT " dofs", nrow, nloc);
+  /* the couplings of every dof group (a contact row): room for all of them, both blocks (an upper bound) */
+  for (PetscInt j = 0; j < ngrp; j++)
+    for (PetscInt k = gptr[j]; k < gptr[j + 1]; k++)
+      if (gdofs[k] >= lo && gdofs[k] < hi) {
+        dnz[gdofs[k] - lo] = PetscMin(dnz[gdofs[k] - lo] + gptr[j + 1] - gptr[j], nloc);
+        onz[gdofs[k] - lo] += gptr[j + 1] - gptr[j];
+      }
   PetscCall(MatCreate(comm, K));
   PetscCall(MatSetSizes(*K, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE));
   PetscCall(MatSetType(*K, MATAIJ));
@@ -844,6 +851,15 @@ PetscErrorCode MeshCreateMatrix(const Mesh *m, Mat *K)
   PetscCall(DMGetLocalToGlobalMapping(m->dm, &ltog));
   PetscCall(MatSetLocalToGlobalMapping(*K, ltog, ltog));
   PetscCall(MatSetOption(*K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  /* ... and explicit zeros there, in the rows this rank owns, so that K + g C^T C keeps K's pattern */
+  for (PetscInt j = 0; j < ngrp; j++) {
+    PetscInt     n = gptr[j + 1] - gptr[j];
+    PetscScalar *zero;
+    PetscCall(PetscCalloc1(n + 1, &zero));
+    for (PetscInt k = gptr[j]; k < gptr[j + 1]; k++)
+      if (gdofs[k] >= lo && gdofs[k] < hi) PetscCall(MatSetValues(*K, 1, &gdofs[k], n, &gdofs[gptr[j]], zero, ADD_VALUES));
+    PetscCall(PetscFree(zero));
+  }
   PetscCall(PetscFree2(dnz, onz));
   PetscCall(PetscFree4(cptr, cadj, gdof, cnt));
   PetscFunctionReturn(0);
