@@ -13,8 +13,9 @@
  * n_lambda algebra: the semismooth Newton iteration (activeset.c) takes its
  * steps on nu, each a dense LU of size n_lambda (every rank holds it), and
  * visits the same active sets as the full path (the problem is linear in u).
- * Two solves with K_g (MUMPS' interior solve, ICNTL(26) = 0) give w
- * (CondensedReducedSetup) and u at the end (CondensedRecover).
+ * MUMPS' condensation phase (forward elimination, ICNTL(26) = 1) gives w
+ * (CondensedReducedSetup), its expansion phase (backward, ICNTL(26) = 2) u
+ * at the end (CondensedRecover): one solve's work in all.
  *
  * Why not PETSc's MUMPS interface: PETSc 3.18 hands MUMPS no ordering on more
  * than one rank and cannot solve with a Schur complement there, and with a
@@ -41,13 +42,15 @@ typedef struct {
   VecScatter   toz;
   Vec          all;        /* a multiplier vector, whole, on every rank */
   VecScatter   toall;
+  Vec          lam0;       /* a multiplier vector, whole, on rank 0 (MUMPS' REDRHS) */
+  VecScatter   lamz;
   Vec          w;          /* w = C K_g^-1 f */
   PetscLogDouble factor_time;
 } Condensed;
 
 /* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
 PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs);
-/* w from one solve with K_g */
+/* w from MUMPS' condensation phase */
 PetscErrorCode CondensedReducedSetup(Condensed *cs);
 /* cu = C u(nu) = w + S0 nu (layout of kkt->r) */
 PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu);
@@ -57,7 +60,7 @@ PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, 
 /* LU of the dense J on every rank; then x = J^-1 b (layout of kkt->r) */
 PetscErrorCode CondensedDenseFactor(Condensed *cs, Mat J);
 PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x);
-/* u = u(nu), one solve with K_g */
+/* u = u(nu), MUMPS' expansion phase */
 PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u);
 PetscErrorCode CondensedDestroy(Condensed *cs);
 #endif

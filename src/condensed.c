@@ -289,39 +289,61 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));
   PetscCall(VecScatterCreateToZero(cs->rhs, &cs->toz, &cs->rhs0));
   PetscCall(VecScatterCreateToAll(kkt->r, &cs->toall, &cs->all));
+  PetscCall(VecScatterCreateToZero(kkt->r, &cs->lamz, &cs->lam0));
   PetscCall(PetscMalloc2(cs->N * cs->N + 1, &cs->lu, cs->N + 1, &cs->piv));
   PetscFunctionReturn(0);
 }
 
-/* u = K_g^-1 fu: MUMPS' interior solve (ICNTL(26) = 0: the Schur rows are left out) */
-static PetscErrorCode InteriorSolve(Condensed *cs, Vec fu, Vec u)
+/* MUMPS' solve phase with the Schur complement on the multipliers (ICNTL(26)):
+ * phase 1, condensation (forward elimination of [f; 0]): the reduced
+ * right-hand side -C K_g^-1 f = -w comes back on rank 0; phase 2, expansion
+ * (backward substitution) from the Schur unknowns nu: u = K_g^-1 (f - C^T nu).
+ * One solve's work for both; the host vector keeps what phase 1 left. */
+static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
 {
   M2dMumps    *mu = cs->mumps;
-  PetscScalar *b  = NULL;
+  PetscScalar *b = NULL, *red = NULL;
   PetscMPIInt  rank;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(mu->comm, &rank));
   PetscCall(PetscLogEventBegin(ev_solve, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(cs->rhs));
-  PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_FORWARD, fu));
-  PetscCall(VecScatterBegin(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
+  if (phase == 1) {
+    PetscCall(VecZeroEntries(cs->rhs));
+    PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_FORWARD, cs->kkt->f));
+    PetscCall(VecScatterBegin(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
+  } else { /* nu -> rank 0 */
+    PetscCall(VecScatterBegin(cs->lamz, lam, cs->lam0, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(cs->lamz, lam, cs->lam0, INSERT_VALUES, SCATTER_FORWARD));
+  }
   if (rank == 0) {
     PetscCall(VecGetArray(cs->rhs0, &b));
-    mu->id.rhs  = b;
-    mu->id.lrhs = mu->id.n;
+    PetscCall(VecGetArray(cs->lam0, &red));
+    mu->id.rhs     = b;
+    mu->id.lrhs    = mu->id.n;
+    mu->id.redrhs  = red;
+    mu->id.lredrhs = (MUMPS_INT)cs->N;
   }
   mu->id.nrhs      = 1;
   mu->id.ICNTL(20) = 0; /* dense right-hand side on rank 0 */
   mu->id.ICNTL(21) = 0; /* solution on rank 0, in place */
-  mu->id.ICNTL(26) = 0; /* interior problem: K_g u = f_u */
-  PetscCall(MumpsCall(mu, 3, "solve"));
-  if (rank == 0) PetscCall(VecRestoreArray(cs->rhs0, &b));
-  mu->id.rhs = NULL;
-  PetscCall(VecScatterBegin(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_REVERSE, u));
+  mu->id.ICNTL(26) = phase;
+  PetscCall(MumpsCall(mu, 3, phase == 1 ? "solve (condensation)" : "solve (expansion)"));
+  if (rank == 0) {
+    PetscCall(VecRestoreArray(cs->lam0, &red));
+    PetscCall(VecRestoreArray(cs->rhs0, &b));
+  }
+  mu->id.rhs    = NULL;
+  mu->id.redrhs = NULL;
+  if (phase == 1) { /* -w -> layout of kkt->r */
+    PetscCall(VecScatterBegin(cs->lamz, cs->lam0, lam, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(cs->lamz, cs->lam0, lam, INSERT_VALUES, SCATTER_REVERSE));
+  } else {
+    PetscCall(VecScatterBegin(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_REVERSE, u));
+  }
   PetscCall(PetscLogEventEnd(ev_solve, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -329,15 +351,12 @@ static PetscErrorCode InteriorSolve(Condensed *cs, Vec fu, Vec u)
 PetscErrorCode CondensedReducedSetup(Condensed *cs)
 {
   KKT *kkt = cs->kkt;
-  Vec  u0;
 
   PetscFunctionBeginUser;
   PetscCheck(cs->S && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: one setup after the factorization");
-  PetscCall(VecDuplicate(kkt->f, &u0));
-  PetscCall(InteriorSolve(cs, kkt->f, u0));
   PetscCall(VecDuplicate(kkt->r, &cs->w));
-  PetscCall(MatMult(kkt->C, u0, cs->w));
-  PetscCall(VecDestroy(&u0));
+  PetscCall(SchurPhase(cs, 1, cs->w, NULL)); /* -w */
+  PetscCall(VecScale(cs->w, -1.0));
   PetscFunctionReturn(0);
 }
 
@@ -447,15 +466,10 @@ PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x)
 PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
 {
   KKT *kkt = cs->kkt;
-  Vec  fu;
 
   PetscFunctionBeginUser;
-  /* u = K_g^-1 (f - C^T nu) */
-  PetscCall(VecDuplicate(kkt->f, &fu));
-  PetscCall(MatMult(kkt->Ct, nu, fu));
-  PetscCall(VecAYPX(fu, -1.0, kkt->f));
-  PetscCall(InteriorSolve(cs, fu, u));
-  PetscCall(VecDestroy(&fu));
+  PetscCheck(cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: recovery before the setup");
+  PetscCall(SchurPhase(cs, 2, nu, u)); /* u = K_g^-1 (f - C^T nu) */
   PetscFunctionReturn(0);
 }
 
@@ -476,5 +490,7 @@ PetscErrorCode CondensedDestroy(Condensed *cs)
   PetscCall(VecScatterDestroy(&cs->toz));
   PetscCall(VecDestroy(&cs->all));
   PetscCall(VecScatterDestroy(&cs->toall));
+  PetscCall(VecDestroy(&cs->lam0));
+  PetscCall(VecScatterDestroy(&cs->lamz));
   PetscFunctionReturn(0);
 }
