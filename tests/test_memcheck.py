@@ -16,7 +16,8 @@ only calls it makes besides Run() are PetscInitialize/PetscFinalize (whose
 Open MPI noise the suppressions cover).
 Other unsuppressed reports (library-only) are printed as notes.
 
-PETSc's own checks: both good scenes again with -malloc_debug -malloc_dump;
+PETSc's own checks: both good scenes again with -malloc_debug -malloc_dump,
+and Hertz level 1 on 2 ranks (condensed, full, tied, PETSc's partitioner);
 they must exit 0 and PETSc must not list any unfreed memory.
 
 Options: --error-paths also runs, under valgrind, errors found after the mesh
@@ -31,7 +32,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, SRC, mesh, opts, workdir
+from m2d import EXE, MPIEXEC, SRC, mesh, opts, workdir
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--error-paths", action="store_true")
@@ -204,11 +205,13 @@ UNFREED = re.compile(r"^\s*\[\s*\d+\]\s*(?:Total space allocated|Maximum memory|
                      r"Memory (?:leak|still allocated)", re.I | re.M)
 
 
-def malloc_case(name, args):
+def malloc_case(name, args, ranks=1):
     what = "-malloc_debug -malloc_dump: %s" % name
     out = os.path.join(W, "malloc_out")
     shutil.rmtree(out, ignore_errors=True)
     cmd = [EXE] + args + ["-output_dir", out, "-contact_monitor", "0", "-malloc_debug", "-malloc_dump"]
+    if ranks > 1:
+        cmd = [MPIEXEC, "--oversubscribe", "-n", str(ranks)] + cmd
     t0 = time.time()
     try:
         p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, errors="replace", timeout=TIMEOUT, env=env())
@@ -248,6 +251,9 @@ def main():
             check_valgrind(f.result())
     malloc_case("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform")])
     malloc_case("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")])
+    # 2 ranks: the plex built per rank, the condensed path's MUMPS on 2 ranks, the full path, the tied solve
+    for extra in ([], ["-kkt_path", "full"], ["-contact_unilateral", "0"], ["-mesh_partitioner", "petsc"]):
+        malloc_case("Hertz level 1, 2 ranks %s" % " ".join(extra), ["-options_file", opts("hertz"), "-mesh", mesh("hertz_1")] + extra, ranks=2)
     print("total %.0f s" % (time.time() - t0))
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
