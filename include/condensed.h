@@ -49,7 +49,7 @@ typedef struct {
 } Condensed;
 
 /* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
-PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs);
+PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs);
 /* w from MUMPS' condensation phase */
 PetscErrorCode CondensedReducedSetup(Condensed *cs);
 /* cu = C u(nu) = w + S0 nu (layout of kkt->r) */

@@ -427,7 +427,7 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PC pc;
     PetscCheck(kkt->aij && kkt->gamma > 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
     PetscCall(PetscNew(&x.cond));
-    PetscCall(CondensedCreate(kkt, s->kkt_ordering, x.cond));
+    PetscCall(CondensedCreate(kkt, s, x.cond));
     /* the SNES unknown is nu (n_lambda): its Jacobian is dense, LAPACK LU on every rank */
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(KSPGetPC(ksp, &pc));

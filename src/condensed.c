@@ -137,17 +137,18 @@ static PetscErrorCode Ordering(KKT *kkt, const PetscInt lamsorted[], PetscInt N,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
+PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
 {
   MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
   PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
   M2dMumps       *mu;
-  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4 = 0, icntl7 = 7, icntl14 = 20, k = 0;
+  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4, icntl7, icntl14, k = 0;
   const PetscInt *il;
   MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
   PetscScalar    *a, *S = NULL;
   PetscLogDouble  t0;
-  PetscBool       ldlt = PETSC_TRUE;
+  PetscBool       ldlt;
+  M2dOrdering     ord = s->kkt_ordering;
   int             sym;
 
   PetscFunctionBeginUser;
@@ -157,12 +158,10 @@ PetscErrorCode CondensedCreate(KKT *kkt, M2dOrdering ord, Condensed *cs)
   cs->kkt = kkt;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscOptionsBegin(comm, NULL, "Condensed path (MUMPS called directly)", NULL);
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "MUMPS output level of the condensed path's factorization (0: none, 2: statistics)", NULL, icntl4, &icntl4, NULL));
-  PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2; half the flops of LU)", NULL, ldlt, &ldlt, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path with -kkt_ordering mumps: MUMPS' ordering (with a Schur complement MUMPS uses AMD whatever is asked)", NULL, icntl7, &icntl7, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "MUMPS working space increase of the condensed path (percent)", NULL, icntl14, &icntl14, NULL));
-  PetscOptionsEnd();
+  icntl4  = s->mumps_icntl[0];
+  icntl7  = s->mumps_icntl[1];
+  icntl14 = s->mumps_icntl[2];
+  ldlt    = s->kkt_ldlt;
   sym = ldlt ? 2 : 0;
 
   t0 = MPI_Wtime();

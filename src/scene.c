@@ -245,15 +245,23 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   {
     const char *const paths[] = {"full", "condensed"};
     PetscInt          k       = 1;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS with a Schur complement on the multipliers; the steps run on the multipliers with dense n_lambda algebra, one rank) or full (the KKT matrix refactored at every step; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS, called directly, with a Schur complement on the multipliers; the steps run on the multipliers with dense n_lambda algebra; 1 or more ranks) or full (the KKT matrix refactored at every step through PETSc's PCLU; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
     s->condensed = (PetscBool)(k == 1);
   }
   {
     const char *const ords[] = {"mumps", "metis"}; /* order of M2dOrdering */
     PetscInt          k      = M2D_ORDERING_METIS;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering of the MUMPS factorizations on one rank: metis (libmetis nested dissection handed to MUMPS, Schur variables last) or mumps (MUMPS' own choice, -mat_mumps_icntl_7: PORD, but AMD whenever a Schur complement is asked); 2 ranks: MUMPS' own", ords, 2, &k));
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering handed to MUMPS: metis (libmetis nested dissection, multipliers last; condensed path on any number of ranks - each rank orders its own rows below the separator of the rows coupled to another rank -, full path on one rank) or mumps (MUMPS' own choice, -mat_mumps_icntl_7; AMD whenever a Schur complement is asked)", ords, 2, &k));
     s->kkt_ordering = (M2dOrdering)k;
-  }  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
+  }
+  s->kkt_ldlt = PETSC_TRUE;
+  PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2, half the flops of LU); false: LU", "", s->kkt_ldlt, &s->kkt_ldlt, NULL));
+  s->mumps_icntl[0] = 0;
+  s->mumps_icntl[1] = 7;
+  s->mumps_icntl[2] = 20;
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "condensed path's MUMPS: output level (0 none, 2 statistics)", "", s->mumps_icntl[0], &s->mumps_icntl[0], NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path's MUMPS with -kkt_ordering mumps: its ordering (AMD is used whenever a Schur complement is asked)", "", s->mumps_icntl[1], &s->mumps_icntl[1], NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "condensed path's MUMPS: working-space increase in percent (raise it when MUMPS reports INFOG(1) = -9)", "", s->mumps_icntl[2], &s->mumps_icntl[2], NULL));  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
   PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
