@@ -123,10 +123,10 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   {
     const char *parts[] = {"metis", "petsc", "M2dPartitioner", "M2D_PARTITIONER_", NULL};
     s->mesh_partitioner = M2D_PARTITIONER_METIS;
-    PetscCall(PetscOptionsEnum("-mesh_partitioner", "how the cells are split over the ranks: libmetis on rank 0 (METIS_PartGraphRecursive on the cells sharing an edge), or PETSc's partitioner (-petscpartitioner_type, PTScotch by default)", "", parts, (PetscEnum)s->mesh_partitioner, (PetscEnum *)&s->mesh_partitioner, NULL));
+    PetscCall(PetscOptionsEnum("-mesh_partitioner", "how the cells are split over the ranks: metis (libmetis on rank 0, METIS_PartGraphRecursive on the cells sharing an edge; every rank then builds its own part of the plex) or petsc (PETSc's partitioner, -petscpartitioner_type, PTScotch by default, and DMPlexDistribute)", "", parts, (PetscEnum)s->mesh_partitioner, (PetscEnum *)&s->mesh_partitioner, NULL));
   }
   s->mesh_check = PETSC_FALSE;
-  PetscCall(PetscOptionsBool("-mesh_check", "run PETSc's plex checks (symmetry, skeleton, faces and their orientation, geometry) on the mesh as built", "", s->mesh_check, &s->mesh_check, NULL));
+  PetscCall(PetscOptionsBool("-mesh_check", "run PETSc's plex checks (symmetry, skeleton, faces and their orientation, geometry; point SF on several ranks) on the mesh as built", "", s->mesh_check, &s->mesh_check, NULL));
   PetscCall(PetscOptionsStringArray("-bodies", "physical surface names of the bodies, comma separated (default: every physical surface is a body)", "", bodies, &nbodies, &set));
   if (!set) nbodies = 0;
   PetscCheck(nbodies <= M2D_MAX_BODIES, comm, PETSC_ERR_USER_INPUT, "option -bodies: at most %d bodies", M2D_MAX_BODIES);
