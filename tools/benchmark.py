@@ -430,6 +430,19 @@ def report_speedup(rows, scene):
             print("    %-30s %6s %8d %9.3f %9.3f %8.2f %9.3f %9.3f %8.2f" % (
                 lab, lv, ra["dofs"], ra["t_solve"], rb["t_solve"], ra["t_solve"] / rb["t_solve"],
                 ra["t_total"], rb["t_total"], ra["t_total"] / rb["t_total"]))
+    # per stage, the condensed paths (the program's default) at the two largest levels they ran
+    stages = [("mesh", lambda r: r["t_mesh"]), ("contact", lambda r: r["t_contact"]),
+              ("assembly", lambda r: r["t_assembly"]), ("order", lambda r: r["t_order"]),
+              ("fact", lambda r: r["t_fact"]), ("steps", lambda r: r["t_solve"] - r["t_fact"] - r["t_order"]),
+              ("output", lambda r: r["t_output"]), ("total", lambda r: r["t_total"]),
+              ("peak MB", lambda r: r["peak_mb"])]
+    print("\n    per stage (seconds on 1 rank / 2 ranks = speedup; steps = solve - order - fact):")
+    for lab, a, b in pairs[::2][:2]:
+        both = [lv for lv in alllv if find(rows, scene, lv, a) and find(rows, scene, lv, b)]
+        for lv in both[-2:]:
+            ra, rb = find(rows, scene, lv, a), find(rows, scene, lv, b)
+            print("    %-18s L%-2s " % (lab, lv) + "  ".join(
+                "%s %.3g/%.3g=%.2f" % (n, f(ra), f(rb), f(ra) / f(rb) if f(rb) > 0 else float("nan")) for n, f in stages))
 
 
 def report_stages(rows, scene):
