@@ -142,7 +142,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
   PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
   M2dMumps       *mu;
-  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4, icntl7, icntl14, k = 0;
+  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4, icntl7, icntl8, icntl14, k = 0;
   const PetscInt *il;
   MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
   PetscScalar    *a, *S = NULL;
@@ -161,6 +161,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   icntl4  = s->mumps_icntl[0];
   icntl7  = s->mumps_icntl[1];
   icntl14 = s->mumps_icntl[2];
+  icntl8  = s->mumps_icntl[3];
   ldlt    = s->kkt_ldlt;
   sym = ldlt ? 2 : 0;
 
@@ -226,6 +227,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
   mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */
   mu->id.ICNTL(28) = 1; /* sequential analysis (the ordering is given) */
+  mu->id.ICNTL(8)  = (MUMPS_INT)icntl8;
   mu->id.n         = (MUMPS_INT)M;
   mu->id.nnz_loc   = (MUMPS_INT8)nnz;
   mu->id.irn_loc   = irn;
