@@ -227,6 +227,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
   mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */
   mu->id.ICNTL(28) = 1; /* sequential analysis (the ordering is given) */
+  mu->id.ICNTL(58) = (MUMPS_INT)s->mumps_icntl[4];
   mu->id.ICNTL(8)  = (MUMPS_INT)icntl8;
   mu->id.n         = (MUMPS_INT)M;
   mu->id.nnz_loc   = (MUMPS_INT8)nnz;
