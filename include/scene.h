@@ -87,7 +87,7 @@ typedef struct {
   PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
   M2dOrdering   kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
   PetscBool     kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */
-  PetscInt      mumps_icntl[5]; /* condensed path's MUMPS ICNTL(4), ICNTL(7), ICNTL(14), ICNTL(8), ICNTL(58) */
+  PetscInt      icntl4, icntl7, icntl8, icntl14, icntl58; /* condensed path's MUMPS ICNTL(n) */
   char        outdir[PETSC_MAX_PATH_LEN];
   char        outname[M2D_NAME_LEN];
   char        summary[PETSC_MAX_PATH_LEN];

@@ -142,14 +142,13 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
   PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
   M2dMumps       *mu;
-  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, icntl4, icntl7, icntl8, icntl14, k = 0;
+  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, k = 0;
   const PetscInt *il;
   MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
   PetscScalar    *a, *S = NULL;
   PetscLogDouble  t0;
-  PetscBool       ldlt;
   M2dOrdering     ord = s->kkt_ordering;
-  int             sym;
+  int             sym = s->kkt_ldlt ? 2 : 0; /* LDL^T of the symmetric matrix, or LU */
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(cs, sizeof(*cs)));
@@ -158,12 +157,6 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   cs->kkt = kkt;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  icntl4  = s->mumps_icntl[0];
-  icntl7  = s->mumps_icntl[1];
-  icntl14 = s->mumps_icntl[2];
-  icntl8  = s->mumps_icntl[3];
-  ldlt    = s->kkt_ldlt;
-  sym = ldlt ? 2 : 0;
 
   t0 = MPI_Wtime();
   /* the multipliers: global indices of A, in the order of kkt->r (rank by rank) */
@@ -218,17 +211,17 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   mu->id.par          = 1;
   mu->id.sym          = (MUMPS_INT)sym;
   PetscCall(MumpsCall(mu, -1, "initialisation"));
-  mu->id.ICNTL(1)  = icntl4 > 0 ? 6 : -1;
+  mu->id.ICNTL(1)  = s->icntl4 > 0 ? 6 : -1;
   mu->id.ICNTL(2)  = -1;
-  mu->id.ICNTL(3)  = icntl4 > 0 ? 6 : -1;
-  mu->id.ICNTL(4)  = (MUMPS_INT)icntl4;
-  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : (MUMPS_INT)icntl7;
-  mu->id.ICNTL(14) = (MUMPS_INT)icntl14;
+  mu->id.ICNTL(3)  = s->icntl4 > 0 ? 6 : -1;
+  mu->id.ICNTL(4)  = (MUMPS_INT)s->icntl4;
+  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : (MUMPS_INT)s->icntl7;
+  mu->id.ICNTL(8)  = (MUMPS_INT)s->icntl8;
+  mu->id.ICNTL(14) = (MUMPS_INT)s->icntl14;
   mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
   mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */
   mu->id.ICNTL(28) = 1; /* sequential analysis (the ordering is given) */
-  mu->id.ICNTL(58) = (MUMPS_INT)s->mumps_icntl[4];
-  mu->id.ICNTL(8)  = (MUMPS_INT)icntl8;
+  mu->id.ICNTL(58) = (MUMPS_INT)s->icntl58;
   mu->id.n         = (MUMPS_INT)M;
   mu->id.nnz_loc   = (MUMPS_INT8)nnz;
   mu->id.irn_loc   = irn;

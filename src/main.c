@@ -5,7 +5,7 @@
  * Phases (each a -log_view stage): Mesh (read, validate, distribute), Contact
  * (surfaces, search, mortar segments or NTS rows), Assembly (Q4 stiffness,
  * loads, Dirichlet rows, KKT system), Solve (KSP from the options database,
- * MUMPS LU by default), Output (stresses, HDF5/XDMF, VTU, CSV, summary). */
+ * MUMPS LDL^T by default), Output (stresses, HDF5/XDMF, VTU, CSV, summary). */
 #include "activeset.h"
 #include "supports.h"
 #include "contact.h"
@@ -110,8 +110,9 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
  * -pc_type lu on one rank; -ksp_type/-pc_type/-mat_mumps_* override */
 static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
 {
-  PC        pc;
-  PetscBool metis, opset;
+  PC            pc;
+  PetscBool     factor, chosen, given, metis;
+  MatSolverType st;
 
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPPREONLY));
@@ -119,25 +120,17 @@ static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
   PetscCall(PCSetType(pc, PCCHOLESKY));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(KSPSetFromOptions(ksp));
-  {
-    PetscBool factor, chosen;
-    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
-    PetscCall(PetscOptionsHasName(NULL, NULL, "-pc_factor_mat_solver_type", &chosen));
-    if (factor && !chosen) PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS)); /* -pc_type lu alone: still MUMPS */
-  }
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-pc_factor_mat_solver_type", &chosen));
+  if (factor && !chosen) PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS)); /* -pc_type lu alone: still MUMPS */
   PetscCall(M2dOrderingSetupKSP(ksp, ord, &metis));
-  PetscCall(KSPGetOperatorsSet(ksp, &opset, NULL));
-  if (opset && !metis) { /* MUMPS orders itself: AMF unless -mat_mumps_icntl_7 says otherwise
-                          * (level 5 tied: AMF 7.4 s, AMD 8.1 s, PORD - MUMPS' automatic choice - 8.9 s) */
-    PetscBool     factor, given;
-    MatSolverType st;
-    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
-    PetscCall(PetscOptionsHasName(NULL, NULL, "-mat_mumps_icntl_7", &given));
-    if (factor && !given) {
-      PetscCall(PCFactorGetMatSolverType(pc, &st));
-      /* through the options database: PETSc 3.18 re-initialises MUMPS at the symbolic factorization */
-      if (st && !strcmp(st, MATSOLVERMUMPS)) PetscCall(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_7", "2"));
-    }
+  /* MUMPS orders itself: AMF unless -mat_mumps_icntl_7 says otherwise (level 5 tied: AMF 7.4 s,
+   * AMD 8.1 s, PORD - MUMPS' automatic choice - 8.9 s); through the options database, because
+   * PETSc 3.18 re-initialises MUMPS at the symbolic factorization */
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-mat_mumps_icntl_7", &given));
+  if (factor && !metis && !given) {
+    PetscCall(PCFactorGetMatSolverType(pc, &st));
+    if (st && !strcmp(st, MATSOLVERMUMPS)) PetscCall(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_7", "2"));
   }
   PetscFunctionReturn(0);
 }

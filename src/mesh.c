@@ -174,6 +174,7 @@ typedef struct {
   PetscInt        nc, nv, ne;
   const PetscInt *cells; /* 4 per cell, vertex ids, counter-clockwise (borrowed) */
   PetscInt       *side;  /* 4 per cell: the edge from cells[4c+j] to cells[4c+(j+1)%4] */
+  PetscInt       *ornt;  /* 4 per cell: 0 if that edge runs from cells[4c+j] (its lower vertex), -1 if against */
   PetscInt       *ev;    /* 2 per edge: lower, higher vertex id */
   PetscInt       *eptr;  /* edges whose lower vertex is v: eptr[v] .. eptr[v+1]-1 */
   PetscInt       *ecell; /* 2 per edge: its cells, -1 if none */
@@ -190,7 +191,7 @@ static PetscErrorCode SkelBuild(PetscInt nc, PetscInt nv, const PetscInt cells[]
   sk->cells = cells;
   PetscCall(PetscCalloc1(nv + 1, &ptr));
   PetscCall(PetscMalloc2(4 * nc + 1, &other, 4 * nc + 1, &sid));
-  PetscCall(PetscMalloc4(4 * nc + 1, &sk->side, 8 * nc + 2, &sk->ev, nv + 1, &sk->eptr, 8 * nc + 2, &sk->ecell));
+  PetscCall(PetscMalloc5(4 * nc + 1, &sk->side, 4 * nc + 1, &sk->ornt, 8 * nc + 2, &sk->ev, nv + 1, &sk->eptr, 8 * nc + 2, &sk->ecell));
   for (PetscInt c = 0; c < nc; c++)
     for (int j = 0; j < 4; j++) ptr[PetscMin(cells[4 * c + j], cells[4 * c + (j + 1) % 4]) + 1]++;
   for (PetscInt v = 0; v < nv; v++) ptr[v + 1] += ptr[v];
@@ -219,6 +220,7 @@ static PetscErrorCode SkelBuild(PetscInt nc, PetscInt nv, const PetscInt cells[]
     }
   }
   sk->eptr[nv] = sk->ne;
+  for (PetscInt i = 0; i < 4 * nc; i++) sk->ornt[i] = sk->ev[2 * sk->side[i]] == cells[i] ? 0 : -1;
   PetscCall(PetscFree(ptr));
   PetscCall(PetscFree2(other, sid));
   PetscFunctionReturn(0);
@@ -234,7 +236,7 @@ static PetscInt SkelFindEdge(const Skel *sk, PetscInt a, PetscInt b)
 
 static void SkelFree(Skel *sk)
 {
-  PetscFree4(sk->side, sk->ev, sk->eptr, sk->ecell);
+  PetscFree5(sk->side, sk->ornt, sk->ev, sk->eptr, sk->ecell);
 }
 
 /* Rank 0: physical curves and points -> entries (group index, 0 vertex / 1 edge, id) */
@@ -413,7 +415,7 @@ static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const Pets
           PetscInt e = sk->side[4 * c + j], loc;
           PetscCall(PetscFindInt(e, nep[p], el[p], &loc));
           ip[off + 4 * i + j]              = loc;
-          ip[off + 4 * ncp[p] + 4 * i + j] = sk->ev[2 * e] == sk->cells[4 * c + j] ? 0 : -1;
+          ip[off + 4 * ncp[p] + 4 * i + j] = sk->ornt[4 * c + j];
         }
         ip[off + 8 * ncp[p] + i] = cellbody[c];
       }
@@ -571,12 +573,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
 
   if (size > 1 && s->mesh_partitioner == M2D_PARTITIONER_METIS) PetscCall(BuildDistributed(comm, &sk, coords, cellbody, nent, ent, &dm, &pbody, &lab, &nlab));
   else { /* the whole plex on rank 0 */
-    PetscInt *cornt;
-    PetscCall(PetscMalloc1(4 * nc + 1, &cornt));
-    for (PetscInt c = 0; c < nc; c++)
-      for (int j = 0; j < 4; j++) cornt[4 * c + j] = sk.ev[2 * sk.side[4 * c + j]] == cells[4 * c + j] ? 0 : -1;
-    PetscCall(PlexFromLists(comm, nc, nv, sk.ne, sk.side, cornt, sk.ev, coords, &dm));
-    PetscCall(PetscFree(cornt));
+    PetscCall(PlexFromLists(comm, nc, nv, sk.ne, sk.side, sk.ornt, sk.ev, coords, &dm));
     PetscCall(PetscMalloc1(nc + nv + sk.ne + 1, &pbody));
     for (PetscInt p = 0; p < nc + nv + sk.ne; p++) pbody[p] = p < nc ? cellbody[p] : -1;
     PetscCall(PetscMalloc1(2 * nent + 1, &lab));

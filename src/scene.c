@@ -256,16 +256,17 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   }
   s->kkt_ldlt = PETSC_TRUE;
   PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2, half the flops of LU); false: LU", "", s->kkt_ldlt, &s->kkt_ldlt, NULL));
-  s->mumps_icntl[0] = 0;
-  s->mumps_icntl[1] = 7;
-  s->mumps_icntl[2] = 20;
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "condensed path's MUMPS: output level (0 none, 2 statistics)", "", s->mumps_icntl[0], &s->mumps_icntl[0], NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path's MUMPS with -kkt_ordering mumps: its ordering (AMD is used whenever a Schur complement is asked)", "", s->mumps_icntl[1], &s->mumps_icntl[1], NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "condensed path's MUMPS: working-space increase in percent (raise it when MUMPS reports INFOG(1) = -9)", "", s->mumps_icntl[2], &s->mumps_icntl[2], NULL));
-  s->mumps_icntl[4] = 2;
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_58", "condensed path's MUMPS: symbolic factorization (2: column counts, 0.25 s faster analysis than 1 at level 5; PETSc 3.18 does not forward this option to its own MUMPS interface)", "", s->mumps_icntl[4], &s->mumps_icntl[4], NULL));
-  s->mumps_icntl[3] = 0;
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_8", "condensed path's MUMPS: scaling (0: none - the factored block K + g C^T C is symmetric positive definite, and scaling cost 0.4 s of 4.6 s at level 5 -, 77: MUMPS' automatic choice)", "", s->mumps_icntl[3], &s->mumps_icntl[3], NULL));  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
+  s->icntl4  = 0;
+  s->icntl7  = 7;
+  s->icntl8  = 0;
+  s->icntl14 = 20;
+  s->icntl58 = 2;
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "condensed path's MUMPS: output level (0 none, 2 statistics)", "", s->icntl4, &s->icntl4, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path's MUMPS with -kkt_ordering mumps: its ordering (AMD is used whenever a Schur complement is asked)", "", s->icntl7, &s->icntl7, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_8", "condensed path's MUMPS: scaling (0: none - the factored block K + g C^T C is symmetric positive definite, and scaling cost 0.4 s of 4.6 s at level 5 -, 77: MUMPS' automatic choice)", "", s->icntl8, &s->icntl8, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "condensed path's MUMPS: working-space increase in percent (raise it when MUMPS reports INFOG(1) = -9)", "", s->icntl14, &s->icntl14, NULL));
+  PetscCall(PetscOptionsInt("-mat_mumps_icntl_58", "condensed path's MUMPS: symbolic factorization (2: column counts, 0.25 s faster analysis than 1 at level 5; PETSc 3.18 does not forward this option to its own MUMPS interface)", "", s->icntl58, &s->icntl58, NULL));
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
   PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
