@@ -317,136 +317,29 @@ static PetscErrorCode PlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, P
 }
 
 /* -mesh_partitioner metis: the part of every cell, libmetis on the cells sharing an edge (rank 0) */
-/* The vertices of the edges of group g (each once, -1 group: none) and their
- * coordinates. */
-static PetscErrorCode SurfaceVertices(const Skel *sk, const PetscReal coords[], PetscInt nent, const PetscInt ent[], PetscInt g, PetscInt *n, PetscInt **v)
+static PetscErrorCode PartitionCells(const Skel *sk, PetscMPIInt size, PetscInt where[])
 {
+  idx_t *xadj, *adj, *part, nvtx = (idx_t)sk->nc, ncon = 1, nparts = size, objval = 0, opts[METIS_NOPTIONS];
+  int    rc = METIS_OK;
   PetscInt k = 0;
 
   PetscFunctionBeginUser;
-  (void)coords;
-  for (PetscInt i = 0; i < nent; i++) k += g >= 0 && ent[3 * i] == g && ent[3 * i + 1];
-  PetscCall(PetscMalloc1(2 * k + 1, v));
-  k = 0;
-  for (PetscInt i = 0; i < nent; i++)
-    if (g >= 0 && ent[3 * i] == g && ent[3 * i + 1]) {
-      (*v)[k++] = sk->ev[2 * ent[3 * i + 2]];
-      (*v)[k++] = sk->ev[2 * ent[3 * i + 2] + 1];
+  PetscCall(PetscMalloc3(sk->nc + 1, &xadj, 4 * sk->nc + 1, &adj, sk->nc + 1, &part));
+  xadj[0] = 0;
+  for (PetscInt c = 0; c < sk->nc; c++) {
+    for (int j = 0; j < 4; j++) {
+      PetscInt e = sk->side[4 * c + j], o = sk->ecell[2 * e] == c ? sk->ecell[2 * e + 1] : sk->ecell[2 * e];
+      if (o >= 0) adj[k++] = (idx_t)o;
     }
-  PetscCall(PetscSortRemoveDupsInt(&k, *v));
-  *n = k;
-  PetscFunctionReturn(0);
-}
-
-/* Two ranks: the cells split along a METIS vertex separator of the node
- * graph (two nodes are neighbours if they share a cell, or - the C^T C
- * coupling of the contact - if one is among the NEAR nearest nodes of the other
- * contact surface). No cell then has nodes on both sides: the separator nodes
- * are exactly the rows that the condensed path's ordering puts last, and the
- * ranks order their own rows alone. Hertz level 5: 1656 separator rows
- * instead of the 2132 of an edge cut's boundary, MUMPS flops 7.9e10 instead of
- * 9.6e10 (1 rank: 7.8e10); level 6: no gain (6.6e11 both). More ranks: a
- * k-way edge cut of the cell graph. */
-#define NEAR 3
-static PetscErrorCode PartitionCells(const Skel *sk, const PetscReal coords[], PetscInt nent, const PetscInt ent[], PetscInt gnm, PetscInt gm, PetscMPIInt size, PetscInt where[])
-{
-  idx_t   *xadj, *adj, *part, ncon = 1, nparts = size, objval = 0, opts[METIS_NOPTIONS];
-  int      rc = METIS_OK;
-  PetscInt k = 0;
-
-  PetscFunctionBeginUser;
+    xadj[c + 1] = (idx_t)k;
+  }
   METIS_SetDefaultOptions(opts);
   opts[METIS_OPTION_NUMBERING] = 0;
-  if (size == 2 && sk->nc > 0) {
-    PetscInt  ns[2] = {0, 0}, *sv[2] = {NULL, NULL}, nl = 0, *link, *deg, cnt[2] = {0, 0};
-    idx_t     nvtx = (idx_t)sk->nv;
-    PetscCall(SurfaceVertices(sk, coords, nent, ent, gnm, &ns[0], &sv[0]));
-    PetscCall(SurfaceVertices(sk, coords, nent, ent, gm, &ns[1], &sv[1]));
-    if (!ns[0] || !ns[1]) ns[0] = ns[1] = 0;
-    /* contact links: every surface node to the NEAR nearest nodes of the other surface */
-    PetscCall(PetscMalloc1(2 * NEAR * (ns[0] + ns[1]) + 1, &link));
-    for (int a = 0; a < 2; a++)
-      for (PetscInt i = 0; i < ns[a]; i++) {
-        PetscInt  best[NEAR], nb = 0, v = sv[a][i];
-        PetscReal bd[NEAR];
-        for (PetscInt j = 0; j < ns[1 - a]; j++) {
-          PetscInt  w  = sv[1 - a][j], q;
-          PetscReal dx = coords[2 * v] - coords[2 * w], dy = coords[2 * v + 1] - coords[2 * w + 1], d = dx * dx + dy * dy;
-          if (nb == NEAR && d >= bd[NEAR - 1]) continue;
-          q = nb < NEAR ? nb++ : NEAR - 1; /* insertion into the sorted short list */
-          while (q > 0 && bd[q - 1] > d) bd[q] = bd[q - 1], best[q] = best[q - 1], q--;
-          bd[q] = d, best[q] = w;
-        }
-        for (PetscInt q = 0; q < nb; q++)
-          if (best[q] != v) link[2 * nl] = v, link[2 * nl + 1] = best[q], nl++;
-      }
-    for (int a = 0; a < 2; a++) PetscCall(PetscFree(sv[a]));
-    /* node graph: cell neighbours (3 per cell corner) and links, both ways, without repeats */
-    PetscCall(PetscCalloc1(sk->nv + 1, &deg));
-    for (PetscInt c = 0; c < sk->nc; c++)
-      for (int j = 0; j < 4; j++) deg[sk->cells[4 * c + j]] += 3;
-    for (PetscInt i = 0; i < nl; i++) deg[link[2 * i]]++, deg[link[2 * i + 1]]++;
-    PetscCall(PetscMalloc3(sk->nv + 1, &xadj, 12 * sk->nc + 2 * nl + 1, &adj, sk->nv + 1, &part));
-    xadj[0] = 0;
-    for (PetscInt v = 0; v < sk->nv; v++) xadj[v + 1] = xadj[v] + (idx_t)deg[v], deg[v] = 0;
-    for (PetscInt c = 0; c < sk->nc; c++)
-      for (int j = 0; j < 4; j++)
-        for (int i = 1; i < 4; i++) {
-          PetscInt v = sk->cells[4 * c + j];
-          adj[xadj[v] + deg[v]++] = (idx_t)sk->cells[4 * c + (j + i) % 4];
-        }
-    for (PetscInt i = 0; i < nl; i++) {
-      PetscInt a = link[2 * i], b = link[2 * i + 1];
-      adj[xadj[a] + deg[a]++] = (idx_t)b;
-      adj[xadj[b] + deg[b]++] = (idx_t)a;
-    }
-    PetscCall(PetscFree(link));
-    for (PetscInt v = 0; v < sk->nv; v++) { /* sort, drop repeats, compact */
-      idx_t   *r = adj + xadj[v], lo = (idx_t)k;
-      PetscInt m = (PetscInt)(xadj[v + 1] - xadj[v]), u = 0;
-      for (PetscInt i = 1; i < m; i++) /* short rows: insertion sort */
-        for (PetscInt q = i; q > 0 && r[q - 1] > r[q]; q--) { idx_t t = r[q]; r[q] = r[q - 1]; r[q - 1] = t; }
-      for (PetscInt i = 0; i < m; i++)
-        if (i == 0 || r[i] != r[i - 1]) r[u++] = r[i];
-      for (PetscInt i = 0; i < u; i++) adj[k + i] = r[i];
-      k += u;
-      xadj[v] = lo;
-    }
-    xadj[sk->nv] = (idx_t)k;
-    PetscCall(PetscFree(deg));
-    opts[METIS_OPTION_UFACTOR] = 30; /* parts within 3%: ND's default 20% leaves one rank idle */
-    rc = METIS_ComputeVertexSeparator(&nvtx, xadj, adj, NULL, opts, &objval, part);
-    PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "option -mesh_partitioner metis: METIS_ComputeVertexSeparator failed (%d) on %" PetscInt_FMT " nodes", rc, sk->nv);
-    /* a cell goes to the side of its non-separator nodes (never two sides) */
-    for (PetscInt c = 0; c < sk->nc; c++) {
-      PetscInt w = -1;
-      for (int j = 0; j < 4; j++)
-        if (part[sk->cells[4 * c + j]] < 2) w = (PetscInt)part[sk->cells[4 * c + j]];
-      if (w < 0) w = cnt[0] <= cnt[1] ? 0 : 1;
-      where[c] = w;
-      cnt[w]++;
-    }
-    PetscCall(PetscInfo(NULL, "METIS: %" PetscInt_FMT " nodes, %" PetscInt_FMT " contact links, separator %ld nodes, cells %" PetscInt_FMT " + %" PetscInt_FMT "\n", sk->nv, nl, (long)objval, cnt[0], cnt[1]));
-    PetscCall(PetscFree3(xadj, adj, part));
-    PetscFunctionReturn(0);
-  }
-  {
-    idx_t nvtx = (idx_t)sk->nc;
-    PetscCall(PetscMalloc3(sk->nc + 1, &xadj, 4 * sk->nc + 1, &adj, sk->nc + 1, &part));
-    xadj[0] = 0;
-    for (PetscInt c = 0; c < sk->nc; c++) {
-      for (int j = 0; j < 4; j++) {
-        PetscInt e = sk->side[4 * c + j], o = sk->ecell[2 * e] == c ? sk->ecell[2 * e + 1] : sk->ecell[2 * e];
-        if (o >= 0) adj[k++] = (idx_t)o;
-      }
-      xadj[c + 1] = (idx_t)k;
-    }
-    if (sk->nc > 0) rc = sk->nc >= size ? METIS_PartGraphRecursive(&nvtx, &ncon, xadj, adj, NULL, NULL, NULL, &nparts, NULL, NULL, opts, &objval, part) : METIS_ERROR_INPUT;
-    PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -mesh_partitioner metis: METIS_PartGraphRecursive failed (%d) on %" PetscInt_FMT " cells for %d ranks", rc, sk->nc, (int)size);
-    PetscCall(PetscInfo(NULL, "METIS: %" PetscInt_FMT " cells in %d parts, %ld cut edges\n", sk->nc, (int)size, (long)objval));
-    for (PetscInt c = 0; c < sk->nc; c++) where[c] = (PetscInt)part[c];
-    PetscCall(PetscFree3(xadj, adj, part));
-  }
+  if (sk->nc > 0) rc = sk->nc >= size ? METIS_PartGraphRecursive(&nvtx, &ncon, xadj, adj, NULL, NULL, NULL, &nparts, NULL, NULL, opts, &objval, part) : METIS_ERROR_INPUT;
+  PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -mesh_partitioner metis: METIS_PartGraphRecursive failed (%d) on %" PetscInt_FMT " cells for %d ranks", rc, sk->nc, (int)size);
+  PetscCall(PetscInfo(NULL, "METIS: %" PetscInt_FMT " cells in %d parts, %ld cut edges\n", sk->nc, (int)size, (long)objval));
+  for (PetscInt c = 0; c < sk->nc; c++) where[c] = (PetscInt)part[c];
+  PetscCall(PetscFree3(xadj, adj, part));
   PetscFunctionReturn(0);
 }
 
@@ -455,7 +348,7 @@ static PetscErrorCode PartitionCells(const Skel *sk, const PetscReal coords[], P
  * vertex or edge belongs to the lowest rank holding one of its cells), its
  * group entries and cell bodies; every rank builds its own plex. No
  * DMPlexDistribute: at level 5 it took 1.6 s of the 2.4 s mesh stage. */
-static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const PetscReal coords[], const PetscInt cellbody[], PetscInt nent, const PetscInt ent[], PetscInt gnm, PetscInt gm, DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab)
+static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const PetscReal coords[], const PetscInt cellbody[], PetscInt nent, const PetscInt ent[], DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab)
 {
   PetscMPIInt rank, size;
   PetscInt   *ibuf = NULL, hdr[6], ni;
@@ -470,7 +363,7 @@ static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const Pets
     PetscCall(PetscMalloc4(nc + 1, &where, nv + 1, &vown, ne + 1, &eown, nv + 1, &vidx));
     PetscCall(PetscMalloc5(ne + 1, &eidx, nv + 1, &vst, ne + 1, &est, nv + 1, &vloc, ne + 1, &eloc));
     PetscCall(PetscCalloc6(size, &vl, size, &el, size, &cl, size, &ncp, size, &nvp, size, &nep));
-    PetscCall(PartitionCells(sk, coords, nent, ent, gnm, gm, size, where));
+    PetscCall(PartitionCells(sk, size, where));
     for (PetscInt v = 0; v < nv; v++) vown[v] = size, vst[v] = -1, vloc[v] = -1;
     for (PetscInt e = 0; e < ne; e++) eown[e] = size, est[e] = -1, eloc[e] = -1;
     for (PetscInt c = 0; c < nc; c++) {
@@ -684,14 +577,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
 
-  if (size > 1 && s->mesh_partitioner == M2D_PARTITIONER_METIS) {
-    PetscInt gnm = -1, gm = -1; /* the contact surfaces' groups */
-    for (PetscInt g = 0; g < m->ngroup; g++) {
-      if (s->contact_nm[0] && !strcmp(m->group[g], s->contact_nm)) gnm = g;
-      if (s->contact_m[0] && !strcmp(m->group[g], s->contact_m)) gm = g;
-    }
-    PetscCall(BuildDistributed(comm, &sk, coords, cellbody, nent, ent, gnm, gm, &dm, &pbody, &lab, &nlab));
-  }
+  if (size > 1 && s->mesh_partitioner == M2D_PARTITIONER_METIS) PetscCall(BuildDistributed(comm, &sk, coords, cellbody, nent, ent, &dm, &pbody, &lab, &nlab));
   else { /* the whole plex on rank 0 */
     PetscCall(PlexFromLists(comm, nc, nv, sk.ne, sk.side, sk.ornt, sk.ev, coords, &dm));
     PetscCall(PetscMalloc1(nc + nv + sk.ne + 1, &pbody));

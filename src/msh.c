@@ -1,4 +1,4 @@
-/* msh.c - strict gmsh ASCII reader (see msh.h).
+/* msh.c - strict gmsh reader, ASCII 2.2/4.1 and binary 4.1 (see msh.h).
  * Every count read from the file is checked against the bytes that remain, so
  * a corrupted count can never make us allocate or loop beyond the file. */
 #include "msh.h"
@@ -17,6 +17,7 @@ typedef struct {
   size_t      errlen;
   const char *section;
   int         failed;
+  int         binary; /* format 4.1 binary (Mesh.Binary = 1): ints 4 bytes, sizes 8 */
 } Parser;
 
 static long LineOf(const Parser *p, size_t pos)
@@ -35,7 +36,8 @@ static int Fail(Parser *p, const char *fmt, ...)
   va_start(ap, fmt);
   vsnprintf(what, sizeof(what), fmt, ap);
   va_end(ap);
-  snprintf(p->err, p->errlen, "mesh file '%s', line %ld%s%s: %s", p->path, LineOf(p, p->pos), p->section ? " in " : "", p->section ? p->section : "", what);
+  if (p->binary) snprintf(p->err, p->errlen, "mesh file '%s' (binary), byte %zu%s%s: %s", p->path, p->pos, p->section ? " in " : "", p->section ? p->section : "", what);
+  else snprintf(p->err, p->errlen, "mesh file '%s', line %ld%s%s: %s", p->path, LineOf(p, p->pos), p->section ? " in " : "", p->section ? p->section : "", what);
   p->failed = 1;
   return 1;
 }
@@ -63,9 +65,54 @@ static int ReadLong(Parser *p, long *v)
   return 0;
 }
 
+/* binary: n raw bytes in the file's (= this machine's, checked) byte order */
+static int ReadRaw(Parser *p, void *v, size_t n, const char *what)
+{
+  if (Remaining(p) < n) return Fail(p, "unexpected end of file (expected %s)", what);
+  memcpy(v, p->buf + p->pos, n);
+  p->pos += n;
+  return 0;
+}
+
+/* an int field of the 4.1 format (4 bytes in binary) */
+static int ReadInt(Parser *p, long *v)
+{
+  int i = 0;
+  if (!p->binary) return ReadLong(p, v);
+  if (ReadRaw(p, &i, sizeof(i), "an integer")) return 1;
+  *v = i;
+  return 0;
+}
+
+/* a size_t field of the 4.1 format (8 bytes in binary) */
+static int ReadSize(Parser *p, long *v)
+{
+  unsigned long long u = 0;
+  if (!p->binary) return ReadLong(p, v);
+  if (ReadRaw(p, &u, sizeof(u), "a size")) return 1;
+  if (u > (unsigned long long)1 << 62) return Fail(p, "size %llu is not plausible (corrupted file?)", u);
+  *v = (long)u;
+  return 0;
+}
+
+/* binary sections start after the keyword's line break */
+static int BinaryStart(Parser *p)
+{
+  if (!p->binary) return 0;
+  if (p->pos < p->len && p->buf[p->pos] == '\r') p->pos++;
+  if (p->pos >= p->len || p->buf[p->pos] != '\n') return Fail(p, "expected a line break before the binary data");
+  p->pos++;
+  return 0;
+}
+
 static int ReadDouble(Parser *p, double *v)
 {
   char *end;
+  if (p->binary) {
+    if (ReadRaw(p, v, sizeof(*v), "a real number")) return 1;
+    if (!(*v == *v) || *v > 1e300 || *v < -1e300) return Fail(p, "coordinate is not a finite number");
+    return 0;
+  }
   SkipSpace(p);
   if (p->pos >= p->len) return Fail(p, "unexpected end of file (expected a number)");
   errno = 0;
@@ -80,7 +127,7 @@ static int ReadDouble(Parser *p, double *v)
 /* a count that the rest of the file could possibly hold (each item >= 2 bytes) */
 static int ReadCount(Parser *p, long *v, long bytes_per_item, const char *what)
 {
-  if (ReadLong(p, v)) return 1;
+  if (ReadSize(p, v)) return 1;
   if (*v < 0) return Fail(p, "negative %s", what);
   if ((size_t)*v > Remaining(p) / (size_t)bytes_per_item + 1) return Fail(p, "%s %ld is larger than the rest of the file can hold (truncated or corrupted file?)", what, *v);
   return 0;
@@ -122,11 +169,14 @@ static int CmpTag(const void *a, const void *b)
 typedef struct {
   TagIdx *t;
   long    n;
+  long   *direct; /* dense tags (gmsh numbers 1..N): index by tag - lo, -1 if none */
+  long    lo, hi;
 } NodeMap;
 
 static long NodeLookup(const NodeMap *map, long tag)
 {
   long lo = 0, hi = map->n - 1;
+  if (map->direct) return tag >= map->lo && tag <= map->hi ? map->direct[tag - map->lo] : -1;
   while (lo <= hi) {
     long mid = (lo + hi) / 2;
     if (map->t[mid].tag == tag) return map->t[mid].idx;
@@ -138,6 +188,24 @@ static long NodeLookup(const NodeMap *map, long tag)
 
 static int BuildNodeMap(Parser *p, NodeMap *map)
 {
+  if (map->n > 0) { /* dense tags: a table instead of sorting (level 6: 2e6 nodes) */
+    long lo = map->t[0].tag, hi = map->t[0].tag;
+    for (long i = 1; i < map->n; i++) {
+      if (map->t[i].tag < lo) lo = map->t[i].tag;
+      if (map->t[i].tag > hi) hi = map->t[i].tag;
+    }
+    if (hi - lo < 2 * map->n + 64 && (map->direct = (long *)malloc((size_t)(hi - lo + 1) * sizeof(long)))) {
+      map->lo = lo;
+      map->hi = hi;
+      for (long k = 0; k <= hi - lo; k++) map->direct[k] = -1;
+      for (long i = 0; i < map->n; i++) {
+        long *d = &map->direct[map->t[i].tag - lo];
+        if (*d >= 0) return Fail(p, "node tag %ld appears twice", map->t[i].tag);
+        *d = map->t[i].idx;
+      }
+      return 0;
+    }
+  }
   qsort(map->t, (size_t)map->n, sizeof(TagIdx), CmpTag);
   for (long i = 1; i < map->n; i++)
     if (map->t[i].tag == map->t[i - 1].tag) return Fail(p, "node tag %ld appears twice", map->t[i].tag);
@@ -275,7 +343,7 @@ static int StoreElement(Parser *p, MshMesh *m, Caps *c, long etag, long type, co
   return Fail(p, "element %ld is a %s (type %ld); mortar2d reads 2D meshes of quadrilaterals", etag, type == 4 ? "tetrahedron" : type == 5 ? "hexahedron" : "3D or unknown element", type);
 }
 
-static int ReadPhysicalNames(Parser *p, MshMesh *m)
+static int ReadPhysicalNamesText(Parser *p, MshMesh *m)
 {
   long n;
   p->section = "$PhysicalNames";
@@ -305,6 +373,16 @@ static int ReadPhysicalNames(Parser *p, MshMesh *m)
   return 0;
 }
 
+/* text in binary files too */
+static int ReadPhysicalNames(Parser *p, MshMesh *m)
+{
+  int binary = p->binary, rc;
+  p->binary = 0;
+  rc        = ReadPhysicalNamesText(p, m);
+  p->binary = binary;
+  return rc;
+}
+
 /* ---------- format 4.1 ---------- */
 typedef struct {
   int  dim;
@@ -330,6 +408,7 @@ static int ReadEntities41(Parser *p, EntityTable *t)
 {
   long cnt[4], total;
   p->section = "$Entities";
+  if (BinaryStart(p)) return 1;
   for (int d = 0; d < 4; d++)
     if (ReadCount(p, &cnt[d], 8, "number of entities")) return 1;
   total = cnt[0] + cnt[1] + cnt[2] + cnt[3];
@@ -341,7 +420,7 @@ static int ReadEntities41(Parser *p, EntityTable *t)
       double  x;
       long    nb, b;
       e->dim = d;
-      if (ReadLong(p, &e->tag)) return 1;
+      if (ReadInt(p, &e->tag)) return 1;
       for (int k = 0; k < (d == 0 ? 3 : 6); k++)
         if (ReadDouble(p, &x)) return 1;
       if (ReadCount(p, &e->nphys, 2, "number of physical tags")) return 1;
@@ -350,14 +429,14 @@ static int ReadEntities41(Parser *p, EntityTable *t)
       e->phys = -1;
       for (long k = 0; k < e->nphys; k++) {
         long ph;
-        if (ReadLong(p, &ph)) return 1;
+        if (ReadInt(p, &ph)) return 1;
         e->physall[k] = (int)(ph < 0 ? -ph : ph);
         if (k == 0) e->phys = e->physall[0];
       }
       if (d > 0) {
         if (ReadCount(p, &nb, 2, "number of bounding entities")) return 1;
         for (long k = 0; k < nb; k++)
-          if (ReadLong(p, &b)) return 1;
+          if (ReadInt(p, &b)) return 1;
       }
     }
   }
@@ -369,18 +448,18 @@ static int ReadNodes41(Parser *p, MshMesh *m, NodeMap *map)
 {
   long nblocks, nnodes, mintag, maxtag, filled = 0;
   p->section = "$Nodes";
-  if (ReadCount(p, &nblocks, 8, "number of node blocks") || ReadCount(p, &nnodes, 6, "number of nodes") || ReadLong(p, &mintag) || ReadLong(p, &maxtag)) return 1;
+  if (BinaryStart(p) || ReadCount(p, &nblocks, 8, "number of node blocks") || ReadCount(p, &nnodes, 6, "number of nodes") || ReadSize(p, &mintag) || ReadSize(p, &maxtag)) return 1;
   m->xy  = (double *)malloc((size_t)(nnodes > 0 ? nnodes : 1) * 2 * sizeof(double));
   map->t = (TagIdx *)malloc((size_t)(nnodes > 0 ? nnodes : 1) * sizeof(TagIdx));
   if (!m->xy || !map->t) return Fail(p, "out of memory");
   for (long b = 0; b < nblocks; b++) {
     long edim, etag, param, nin;
-    if (ReadLong(p, &edim) || ReadLong(p, &etag) || ReadLong(p, &param) || ReadCount(p, &nin, 6, "number of nodes in block")) return 1;
+    if (ReadInt(p, &edim) || ReadInt(p, &etag) || ReadInt(p, &param) || ReadCount(p, &nin, 6, "number of nodes in block")) return 1;
     if (filled + nin > nnodes) return Fail(p, "node blocks hold more nodes than the %ld announced", nnodes);
     if (param != 0 && param != 1) return Fail(p, "node block parametric flag %ld is not 0 or 1", param);
     for (long i = 0; i < nin; i++) {
       long tag;
-      if (ReadLong(p, &tag)) return 1;
+      if (ReadSize(p, &tag)) return 1;
       if (tag <= 0) return Fail(p, "node tag %ld is not positive", tag);
       map->t[filled + i].tag = tag;
       map->t[filled + i].idx = filled + i;
@@ -406,12 +485,12 @@ static int ReadElements41(Parser *p, MshMesh *m, const NodeMap *map, const Entit
 {
   long nblocks, nelem, mintag, maxtag, seen = 0;
   p->section = "$Elements";
-  if (ReadCount(p, &nblocks, 8, "number of element blocks") || ReadCount(p, &nelem, 4, "number of elements") || ReadLong(p, &mintag) || ReadLong(p, &maxtag)) return 1;
+  if (BinaryStart(p) || ReadCount(p, &nblocks, 8, "number of element blocks") || ReadCount(p, &nelem, 4, "number of elements") || ReadSize(p, &mintag) || ReadSize(p, &maxtag)) return 1;
   for (long b = 0; b < nblocks; b++) {
     long          edim, etag, type, nin;
     const Entity *ent;
     int           nn;
-    if (ReadLong(p, &edim) || ReadLong(p, &etag) || ReadLong(p, &type) || ReadCount(p, &nin, 4, "number of elements in block")) return 1;
+    if (ReadInt(p, &edim) || ReadInt(p, &etag) || ReadInt(p, &type) || ReadCount(p, &nin, 4, "number of elements in block")) return 1;
     nn = NodesPerElement(type);
     if (nn < 0) return Fail(p, "unknown element type %ld", type);
     if (ElementDim(type) != edim) return Fail(p, "element type %ld (%s) in an entity of dimension %ld", type, ElementName(type), edim);
@@ -421,10 +500,10 @@ static int ReadElements41(Parser *p, MshMesh *m, const NodeMap *map, const Entit
     if (seen > nelem) return Fail(p, "element blocks hold more elements than the %ld announced", nelem);
     for (long i = 0; i < nin; i++) {
       long tag, nodes[9];
-      if (ReadLong(p, &tag)) return 1;
+      if (ReadSize(p, &tag)) return 1;
       for (int k = 0; k < nn; k++) {
         long ntag;
-        if (ReadLong(p, &ntag)) return 1;
+        if (ReadSize(p, &ntag)) return 1;
         nodes[k] = NodeLookup(map, ntag);
         if (nodes[k] < 0) return Fail(p, "element %ld uses node %ld, which $Nodes does not define", tag, ntag);
       }
@@ -522,7 +601,7 @@ int MshRead(const char *path, MshMesh *m, char *err, size_t errlen)
   char        w[64];
   double      version = 0;
   long        ftype = 0, dsize = 0;
-  NodeMap     map   = {NULL, 0};
+  NodeMap     map   = {NULL, 0, NULL, 0, 0};
   EntityTable ents  = {NULL, 0};
   Caps        caps  = {0, 0, 0};
   int         have_nodes = 0, have_elems = 0, rc = 1;
@@ -564,19 +643,34 @@ int MshRead(const char *path, MshMesh *m, char *err, size_t errlen)
   fclose(fp);
   p.buf[size] = 0;
   p.len       = (size_t)size;
-  if (memchr(p.buf, 0, p.len)) {
-    Fail(&p, "file contains NUL bytes: binary .msh files are not supported (save with Mesh.Binary = 0)");
-    goto done;
-  }
-
   p.section = "$MeshFormat";
   if (Expect(&p, "$MeshFormat") || ReadDouble(&p, &version) || ReadLong(&p, &ftype) || ReadLong(&p, &dsize)) goto done;
-  if (ftype != 0) {
-    Fail(&p, "binary .msh files are not supported (save with Mesh.Binary = 0)");
-    goto done;
-  }
   if (!(version == 2.2 || version == 4.1)) {
     Fail(&p, "unsupported .msh format version %g (mortar2d reads 2.2 and 4.1)", version);
+    goto done;
+  }
+  if (ftype != 0 && ftype != 1) {
+    Fail(&p, "file type %ld is neither 0 (ASCII) nor 1 (binary)", ftype);
+    goto done;
+  }
+  if (ftype == 1) { /* binary 4.1: a one in the file's byte order follows the header line */
+    long one;
+    if (version != 4.1) {
+      Fail(&p, "binary .msh files are read in format 4.1 only (save with Mesh.MshFileVersion = 4.1, or Mesh.Binary = 0)");
+      goto done;
+    }
+    if (dsize != (long)sizeof(size_t)) {
+      Fail(&p, "binary data size %ld is not %d", dsize, (int)sizeof(size_t));
+      goto done;
+    }
+    p.binary = 1;
+    if (BinaryStart(&p) || ReadInt(&p, &one)) goto done;
+    if (one != 1) {
+      Fail(&p, "binary file written with another byte order");
+      goto done;
+    }
+  } else if (memchr(p.buf, 0, p.len)) {
+    Fail(&p, "file contains NUL bytes but its header says ASCII (corrupted, or binary with a wrong header?)");
     goto done;
   }
   if (Expect(&p, "$EndMeshFormat")) goto done;
@@ -623,7 +717,9 @@ int MshRead(const char *path, MshMesh *m, char *err, size_t errlen)
       /* skip unknown sections ($Periodic, $NodeData, ...) */
       char endtag[80];
       snprintf(endtag, sizeof(endtag), "$End%s", w + 1);
-      char *q = strstr(p.buf + p.pos, endtag);
+      const char *q = NULL;
+      for (size_t k = p.pos; k + strlen(endtag) <= p.len && !q; k++) /* binary sections may hold NUL bytes */
+        if (p.buf[k] == '$' && !memcmp(p.buf + k, endtag, strlen(endtag))) q = p.buf + k;
       if (!q) {
         Fail(&p, "section %.40s has no %.40s", w, endtag);
         goto done;
@@ -646,6 +742,7 @@ int MshRead(const char *path, MshMesh *m, char *err, size_t errlen)
   rc = 0;
 done:
   free(map.t);
+  free(map.direct);
   for (long i = 0; i < ents.n; i++) free(ents.e[i].physall);
   free(ents.e);
   free(p.buf);

@@ -18,3 +18,23 @@ check(set(np.unique(c1["body"])) == {0.0, 1.0}, "two bodies")
 # the upper body (index 1) carries the pressure: mean sigma_y about -1e6
 sy = c1["sigma_y"][c1["body"] == 1]
 check(abs(sy.mean() + 1e6) < 0.2e6, "upper body mean sigma_y %.3e" % sy.mean())
+
+# the same mesh saved by gmsh in binary 4.1 (gmsh -bin): the same answer, also
+# split over two files and on two ranks
+import shutil
+import subprocess
+gmsh = shutil.which("gmsh")
+check(gmsh is not None, "gmsh found for the binary-file check")
+binary = []
+for name in ("patch_uniform_lower", "patch_uniform_upper"):
+    out = workdir("files_binary") + "/" + name + "_bin.msh"
+    subprocess.run([gmsh, "-0", "-bin", "-format", "msh41", "-v", "0", mesh(name), "-o", out], check=True)
+    with open(out, "rb") as fh:
+        check(fh.read(64).split(b"\n")[1].startswith(b"4.1 1 "), "%s written in binary" % name)
+    binary.append(out)
+for ranks in (1, 2):
+    b = solve("files_binary_%d" % ranks, common + ["-mesh", ",".join(binary)], ranks=ranks)
+    vb, _, xb, _ = sorted_fields(workdir("files_binary_%d" % ranks) + "/solution.h5")
+    db = np.abs(v2["displacement"] - vb["displacement"]).max() / np.abs(v2["displacement"]).max()
+    check(b["dofs"] == two["dofs"] and np.allclose(x2, xb, atol=1e-14) and db < 1e-12,
+          "binary files, %d rank(s): same mesh and displacement (%.1e)" % (ranks, db))
