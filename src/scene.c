@@ -148,7 +148,8 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     PetscInt          k       = 0;
     PetscCall(OptionsChoice(PetscOptionsObject, "-q4_integration", "Q4 stiffness integration: full (2x2 Gauss; locks as nu -> 0.5 in plane strain) or sri (selective reduced: the lambda part at 1 point, cures volumetric locking)", integ, 2, &k));
     s->sri = (PetscBool)(k == 1);
-  }  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
+  }
+  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
   PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY] on a physical curve, p = P + GX x + GY y (p > 0 pushes into the body), comma separated; default: none", &pres, &npres));
   PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
   for (PetscInt i = 0; i < ndir; i++) {
@@ -226,7 +227,8 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     const char *const init[] = {"gap", "closest", "all"};
     s->contact_initial       = 1;
     PetscCall(OptionsChoice(PetscOptionsObject, "-contact_initial", "first active set: gap (nodes whose initial gap is closed), closest (the nodes with the smallest initial gap: a body held only by contact is held from the start), all (every candidate)", init, 3, &s->contact_initial));
-  }  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
+  }
+  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
   PetscCall(PetscOptionsBool("-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain) and report it", "", s->hertz, &s->hertz, NULL));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_radius", "cylinder radius R for -hertz", s->hertz_radius, &s->hertz_radius));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the resultant of the first -pressure, as for the quarter model)", s->hertz_load, &s->hertz_load));
@@ -235,7 +237,8 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
     PetscInt          k       = 0;
     PetscCall(OptionsChoice(PetscOptionsObject, "-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", basis, 2, &k));
     s->basis = (int)k;
-  }  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
+  }
+  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
   {
     const char *const mats[] = {"aij", "nest"}; /* order of KKTMatType */
     PetscInt          k      = KKT_AIJ;
