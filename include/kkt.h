@@ -25,7 +25,7 @@ typedef struct {
   Mat       CA;    /* the (lambda,u) block in use: rows of C, inactive ones zeroed */
   Mat       Kblk;  /* the (u,u) block: K, or K + gamma CA^T CA */
   Mat       CtCA;  /* CA^T CA (augmentation only) */
-  Mat       Ct, Z, nest, A; /* Z: (lambda,lambda) block; A: operator for the KSP (nest or aij) */
+  Mat       Ct, Z, nest, A; /* Z: (lambda,lambda) block; A: operator for the KSP (nest or aij; NULL on the condensed path, which reads the blocks) */
   Mat       A0;             /* aij with every row active, unscaled: A is updated from it */
   IS        isu, isl;       /* u and lambda in the global numbering of A */
   Vec       b, x;

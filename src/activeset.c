@@ -356,7 +356,7 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
 
 PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *kkt, Vec u, Vec lam, Vec active, ActiveSetInfo *info)
 {
-  MPI_Comm            comm = PetscObjectComm((PetscObject)kkt->A);
+  MPI_Comm            comm = PetscObjectComm((PetscObject)kkt->K);
   SNES                snes;
   KSP                 ksp;
   Ctx                 x;

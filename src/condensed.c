@@ -1,19 +1,22 @@
-/* condensed.c - factor once with a MUMPS Schur complement (dmumps_c, 1 or 2
- * ranks); the reduced iteration's algebra (see condensed.h). */
+/* condensed.c - factor once: every rank factors its own rows with its own
+ * sequential MUMPS (dmumps_c) and a Schur complement on its interface, the
+ * interface is dense and shared; the reduced iteration's algebra (see
+ * condensed.h). */
 #include "condensed.h"
 #include <dmumps_c.h>
 #include <petscblaslapack.h>
 
-#define ICNTL(I)  icntl[(I) - 1]
-#define INFOG(I)  infog[(I) - 1]
-#define RINFOG(I) rinfog[(I) - 1]
+#define ICNTL(I) icntl[(I) - 1]
+#define INFO(I)  info[(I) - 1]
+#define INFOG(I) infog[(I) - 1]
+#define RINFO(I) rinfo[(I) - 1]
 
 struct M2dMumps {
   DMUMPS_STRUC_C id;
   MPI_Comm       comm;
 };
 
-static PetscLogEvent ev_order, ev_analysis, ev_factor, ev_solve;
+static PetscLogEvent ev_order, ev_analysis, ev_factor, ev_iface, ev_solve;
 
 static PetscErrorCode RegisterEvents(void)
 {
@@ -24,146 +27,236 @@ static PetscErrorCode RegisterEvents(void)
   PetscCall(PetscLogEventRegister("M2dCondOrder", MAT_CLASSID, &ev_order));
   PetscCall(PetscLogEventRegister("M2dMumpsAnalysis", MAT_CLASSID, &ev_analysis));
   PetscCall(PetscLogEventRegister("M2dMumpsFactor", MAT_CLASSID, &ev_factor));
+  PetscCall(PetscLogEventRegister("M2dInterface", MAT_CLASSID, &ev_iface));
   PetscCall(PetscLogEventRegister("M2dMumpsSolve", MAT_CLASSID, &ev_solve));
   done = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode MumpsCall(M2dMumps *mu, int job, const char *what)
+/* One MUMPS phase of every rank's own instance (mu = NULL: this rank has no
+ * part in it). Collective on comm: the ranks agree on the outcome, so that a
+ * failure on one rank stops them all with the same message. */
+static PetscErrorCode MumpsCall(MPI_Comm comm, M2dMumps *mu, int job, const char *what)
 {
+  int st = 0, worst, st2 = PETSC_MIN_INT, worst2;
+
   PetscFunctionBeginUser;
-  mu->id.job = job;
-  dmumps_c(&mu->id);
-  if (mu->id.INFOG(1) == -10 && job == 2) SETERRQ(mu->comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");
-  PetscCheck(mu->id.INFOG(1) >= 0, mu->comm, PETSC_ERR_LIB, "MUMPS %s failed: INFOG(1) = %d, INFOG(2) = %d%s", what, (int)mu->id.INFOG(1), (int)mu->id.INFOG(2), mu->id.INFOG(1) == -9 ? " (raise -mat_mumps_icntl_14)" : "");
+  if (mu) {
+    mu->id.job = job;
+    dmumps_c(&mu->id);
+    st = (int)mu->id.INFOG(1);
+  }
+  PetscCallMPI(MPI_Allreduce(&st, &worst, 1, MPI_INT, MPI_MIN, comm));
+  if (worst >= 0) PetscFunctionReturn(0);
+  if (st == worst) st2 = (int)mu->id.INFOG(2);
+  PetscCallMPI(MPI_Allreduce(&st2, &worst2, 1, MPI_INT, MPI_MAX, comm));
+  if (worst == -10 && job == 2) SETERRQ(comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair)");
+  SETERRQ(comm, PETSC_ERR_LIB, "MUMPS %s failed: INFOG(1) = %d, INFOG(2) = %d%s", what, worst, worst2, worst == -9 ? " (raise -mat_mumps_icntl_14)" : "");
+}
+
+/* position of key in the sorted a[0..n), or -1 */
+static PetscInt Find(PetscInt key, PetscInt n, const PetscInt a[])
+{
+  PetscInt lo = 0, hi = n;
+  while (lo < hi) {
+    PetscInt mid = lo + (hi - lo) / 2;
+    if (a[mid] < key) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < n && a[lo] == key ? lo : -1;
+}
+
+/* where the rows of the KKT matrix go */
+typedef struct {
+  PetscInt        rs, re, ns, N;
+  const PetscInt *lidx;      /* own rows: interior index, or -1 - interface index */
+  const PetscInt *sepall;    /* global rows of the separator, sorted */
+  const PetscInt *lamsorted; /* global rows of the multipliers, sorted ... */
+  const PetscInt *lamperm;   /* ... and their positions in kkt->r */
+} RowMap;
+
+#define M2D_OTHER_INTERIOR PETSC_MIN_INT
+
+/* a global column: its interior index (own rows), -1 - its interface index,
+ * or M2D_OTHER_INTERIOR (an interior row of another rank) */
+static PetscInt ColClass(const RowMap *rm, PetscInt c)
+{
+  PetscInt k;
+  if (c >= rm->rs && c < rm->re) return rm->lidx[c - rm->rs];
+  if ((k = Find(c, rm->ns, rm->sepall)) >= 0) return -1 - k;
+  if ((k = Find(c, rm->N, rm->lamsorted)) >= 0) return -1 - (rm->ns + rm->lamperm[k]);
+  return M2D_OTHER_INTERIOR;
+}
+
+/* The rows of the monolithic KKT matrix [K_g C^T; C Z], read from the
+ * nest's blocks: no assembled copy is made on this path. Numbering (that of
+ * kkt->isu, kkt->isl): rank by rank, its u rows, then its multiplier rows. */
+typedef struct {
+  Mat             blk[4]; /* (u,u) (u,l) (l,u) (l,l) */
+  const PetscInt *ur, *lr; /* ownership ranges: u rows, multiplier rows */
+  PetscMPIInt     size, rank;
+  PetscInt        nu, nl, cap, *cols;
+  PetscScalar    *vals;
+} KKTRows;
+
+static PetscInt Owner(const PetscInt r[], PetscMPIInt size, PetscInt j)
+{
+  PetscInt lo = 0, hi = size - 1;
+  while (lo < hi) {
+    PetscInt mid = (lo + hi + 1) / 2;
+    if (r[mid] <= j) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+static PetscErrorCode KKTRowsCreate(KKT *kkt, KKTRows *kr)
+{
+  MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->Kblk);
+  const PetscInt *iu, *il;
+  PetscInt        nu, nl;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(kr, sizeof(*kr)));
+  kr->blk[0] = kkt->Kblk;
+  kr->blk[1] = kkt->Ct;
+  kr->blk[2] = kkt->CA;
+  kr->blk[3] = kkt->Z;
+  PetscCallMPI(MPI_Comm_size(comm, &kr->size));
+  PetscCallMPI(MPI_Comm_rank(comm, &kr->rank));
+  PetscCall(MatGetOwnershipRanges(kkt->Kblk, &kr->ur));
+  PetscCall(MatGetOwnershipRanges(kkt->CA, &kr->lr));
+  kr->nu = kr->ur[kr->rank + 1] - kr->ur[kr->rank];
+  kr->nl = kr->lr[kr->rank + 1] - kr->lr[kr->rank];
+  /* the nest's own index sets say the same */
+  PetscCall(ISGetLocalSize(kkt->isu, &nu));
+  PetscCall(ISGetLocalSize(kkt->isl, &nl));
+  PetscCall(ISGetIndices(kkt->isu, &iu));
+  PetscCall(ISGetIndices(kkt->isl, &il));
+  PetscCheck(nu == kr->nu && nl == kr->nl && (!nu || iu[0] == kr->ur[kr->rank] + kr->lr[kr->rank]) && (!nl || il[0] == kr->ur[kr->rank + 1] + kr->lr[kr->rank]), PETSC_COMM_SELF, PETSC_ERR_PLIB, "KKT numbering differs from the nest's index sets");
+  PetscCall(ISRestoreIndices(kkt->isu, &iu));
+  PetscCall(ISRestoreIndices(kkt->isl, &il));
+  kr->cap = 64;
+  PetscCall(PetscMalloc2(kr->cap, &kr->cols, kr->cap, &kr->vals));
   PetscFunctionReturn(0);
 }
 
-/* Pivot position (1-based, MUMPS PERM_IN) of every row of A, on rank 0; the
- * multipliers last. Several ranks: rows of rank p with a u-coupling to a
- * higher rank form the separator; the rest of every rank's rows is ordered by
- * METIS on that rank, all at once; rank 0 puts the interiors rank by rank,
- * then the separators, then the multipliers. */
-static PetscErrorCode Ordering(KKT *kkt, const PetscInt lamsorted[], PetscInt N, MUMPS_INT **perm)
+/* local row i (u rows first): columns (KKT numbering) and values in kr->cols, kr->vals */
+static PetscErrorCode KKTRowsGet(KKTRows *kr, PetscInt i, PetscInt *nc)
 {
-  Mat             A = kkt->A, Ad = A, Ao = NULL;
-  MPI_Comm        comm = PetscObjectComm((PetscObject)A);
-  PetscMPIInt     size, rank;
-  const PetscInt *ranges, *colmap = NULL, *il, *pos;
-  PetscInt        rs, re, n, nl, nsep = 0, *lastidx, *code, cnt[3] = {0, 0, 0}, *allcnt = NULL;
-  PetscBool      *islam;
-  IS              last, posis;
+  PetscInt lam = i >= kr->nu, row = lam ? kr->lr[kr->rank] + i - kr->nu : kr->ur[kr->rank] + i, n = 0;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(MatGetOwnershipRange(A, &rs, &re));
-  PetscCall(MatGetOwnershipRanges(A, &ranges));
-  n = re - rs;
-  if (size > 1) PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
-  PetscCall(ISGetLocalSize(kkt->isl, &nl));
-  PetscCall(PetscCalloc2(n + 1, &islam, n + 1, &lastidx));
-  PetscCall(ISGetIndices(kkt->isl, &il));
-  for (PetscInt j = 0; j < nl; j++) islam[il[j] - rs] = PETSC_TRUE;
-  PetscCall(ISRestoreIndices(kkt->isl, &il));
-  /* separator rows first in `last`, then the multipliers */
-  for (PetscInt i = 0; i < n && Ao; i++) {
-    PetscInt        nc, loc;
+  for (int b = 0; b < 2; b++) {
+    Mat                M = kr->blk[2 * lam + b];
+    const PetscInt    *r = b == 0 ? kr->ur : kr->lr, *o = b == 0 ? kr->lr : kr->ur;
+    PetscInt           m, p = kr->rank;
+    const PetscInt    *c;
+    const PetscScalar *v;
+    PetscCall(MatGetRow(M, row, &m, &c, &v));
+    if (n + m > kr->cap) {
+      PetscCall(PetscFree2(kr->cols, kr->vals));
+      kr->cap = 2 * (n + m);
+      PetscCall(PetscMalloc2(kr->cap, &kr->cols, kr->cap, &kr->vals));
+      n = 0; /* start the row again */
+      b = -1;
+      PetscCall(MatRestoreRow(M, row, &m, &c, &v));
+      continue;
+    }
+    for (PetscInt k = 0; k < m; k++) { /* u column j of rank p: j + lr[p]; multiplier k: k + ur[p + 1] */
+      if (c[k] < r[p] || c[k] >= r[p + 1]) p = (PetscInt)Owner(r, kr->size, c[k]);
+      kr->cols[n]   = c[k] + (b == 0 ? o[p] : o[p + 1]);
+      kr->vals[n++] = v[k];
+    }
+    PetscCall(MatRestoreRow(M, row, &m, &c, &v));
+  }
+  *nc = n;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode KKTRowsDestroy(KKTRows *kr)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree2(kr->cols, kr->vals));
+  PetscFunctionReturn(0);
+}
+
+/* The interface: the multipliers, and on several ranks the separator, the
+ * u rows of each rank coupled to a u row of a higher rank (the rows of the
+ * other ranks' interiors then couple only to their own interior and to the
+ * interface). Numbering: the separator rank by rank, then the multipliers in
+ * the order of kkt->r. */
+static PetscErrorCode Classify(Condensed *cs, const KKTRows *kr, PetscInt **sepall)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)cs->kkt->Kblk);
+  PetscMPIInt nn, *rc, *displ;
+  PetscInt    nsep = 0, *sep, *lidx, ks = 0, sepoff, u0 = kr->ur[kr->rank], u1 = kr->ur[kr->rank + 1], n = kr->nu + kr->nl;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(kr->nu + 1, &sep));
+  PetscCall(PetscMalloc2(kr->size, &rc, kr->size, &displ));
+  for (PetscInt i = 0; i < kr->nu && kr->size > 1; i++) {
+    PetscInt        nc;
     const PetscInt *cols;
-    PetscBool       sep = PETSC_FALSE;
-    if (islam[i]) continue;
-    PetscCall(MatGetRow(Ao, i, &nc, &cols, NULL));
-    for (PetscInt k = 0; k < nc && !sep; k++) {
-      PetscInt g = colmap[cols[k]];
-      PetscCall(PetscFindInt(g, N, lamsorted, &loc));
-      sep = (PetscBool)(loc < 0 && g >= re); /* a u column of a higher rank */
-    }
-    PetscCall(MatRestoreRow(Ao, i, &nc, &cols, NULL));
-    if (sep) lastidx[nsep++] = i;
+    PetscBool       s = PETSC_FALSE;
+    PetscCall(MatGetRow(kr->blk[0], u0 + i, &nc, &cols, NULL));
+    for (PetscInt k = nc - 1; k >= 0 && !s; k--) s = (PetscBool)(cols[k] >= u1); /* a u row of a higher rank */
+    PetscCall(MatRestoreRow(kr->blk[0], u0 + i, &nc, &cols, NULL));
+    if (s) sep[nsep++] = i;
   }
-  nl = nsep;
-  for (PetscInt i = 0; i < n; i++)
-    if (islam[i]) lastidx[nl++] = i;
-  PetscCall(PetscInfo(A, "separator %" PetscInt_FMT " rows, multipliers %" PetscInt_FMT ", interior %" PetscInt_FMT "\n", nsep, nl - nsep, n - nl));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nl, lastidx, PETSC_USE_POINTER, &last));
-  PetscCall(M2dOrderingMetis(Ad, last, &posis));
-  PetscCall(ISDestroy(&last));
-  /* per row: class (0 interior, 1 separator, 2 multiplier) and rank within it */
-  PetscCall(PetscMalloc1(n + 1, &code));
-  PetscCall(ISGetIndices(posis, &pos));
-  {
-    PetscInt nint = n - nl;
-    for (PetscInt i = 0; i < n; i++) {
-      PetscInt p = pos[i], c = p < nint ? 0 : (p < nint + nsep ? 1 : 2);
-      code[i] = 4 * (p - (c == 0 ? 0 : (c == 1 ? nint : nint + nsep))) + c;
-      cnt[c]++;
-    }
+  PetscCall(PetscMPIIntCast(nsep, &nn));
+  PetscCallMPI(MPI_Allgather(&nn, 1, MPI_INT, rc, 1, MPI_INT, comm));
+  displ[0] = 0;
+  for (PetscMPIInt p = 1; p < kr->size; p++) displ[p] = displ[p - 1] + rc[p - 1];
+  sepoff = displ[kr->rank];
+  cs->ns = displ[kr->size - 1] + rc[kr->size - 1];
+  PetscCall(PetscMalloc1(n + 1, &lidx));
+  cs->nI = 0;
+  for (PetscInt i = 0; i < n; i++) {
+    if (i >= kr->nu) lidx[i] = -1 - (cs->ns + kr->lr[kr->rank] + i - kr->nu);
+    else if (ks < nsep && sep[ks] == i) lidx[i] = -1 - (sepoff + ks++);
+    else lidx[i] = cs->nI++;
   }
-  PetscCall(ISRestoreIndices(posis, &pos));
-  PetscCall(ISDestroy(&posis));
-  PetscCall(PetscFree2(islam, lastidx));
-  /* rank 0: positions */
-  {
-    PetscMPIInt *rc = NULL, *displ = NULL, nn;
-    PetscInt    *allcode = NULL, M = ranges[size];
-    if (rank == 0) {
-      PetscCall(PetscMalloc4(3 * size, &allcnt, size, &rc, size, &displ, M, &allcode));
-      for (PetscMPIInt p = 0; p < size; p++) {
-        PetscCall(PetscMPIIntCast(ranges[p + 1] - ranges[p], &rc[p]));
-        PetscCall(PetscMPIIntCast(ranges[p], &displ[p]));
-      }
-    }
-    PetscCall(PetscMPIIntCast(n, &nn));
-    PetscCallMPI(MPI_Gather(cnt, 3, MPIU_INT, allcnt, 3, MPIU_INT, 0, comm));
-    PetscCallMPI(MPI_Gatherv(code, nn, MPIU_INT, allcode, rc, displ, MPIU_INT, 0, comm));
-    *perm = NULL;
-    if (rank == 0) {
-      PetscInt *off, acc = 0;
-      PetscCall(PetscMalloc1(3 * size, &off));
-      for (int c = 0; c < 3; c++)
-        for (PetscMPIInt p = 0; p < size; p++) {
-          off[3 * p + c] = acc;
-          acc += allcnt[3 * p + c];
-        }
-      PetscCheck(acc == M, PETSC_COMM_SELF, PETSC_ERR_PLIB, "ordering covers %" PetscInt_FMT " of %" PetscInt_FMT " rows", acc, M);
-      PetscCall(PetscMalloc1(M, perm));
-      for (PetscMPIInt p = 0; p < size; p++)
-        for (PetscInt g = ranges[p]; g < ranges[p + 1]; g++) (*perm)[g] = (MUMPS_INT)(off[3 * p + allcode[g] % 4] + allcode[g] / 4 + 1);
-      PetscCall(PetscFree(off));
-      PetscCall(PetscFree4(allcnt, rc, displ, allcode));
-    }
-  }
-  PetscCall(PetscFree(code));
+  cs->lidx = lidx;
+  /* the separator's rows in the KKT numbering, on every rank */
+  for (PetscInt k = 0; k < nsep; k++) sep[k] += u0 + kr->lr[kr->rank];
+  PetscCall(PetscMalloc1(cs->ns + 1, sepall));
+  PetscCallMPI(MPI_Allgatherv(sep, nn, MPIU_INT, *sepall, rc, displ, MPIU_INT, comm));
+  PetscCall(PetscFree(sep));
+  PetscCall(PetscFree2(rc, displ));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
 {
-  MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->A);
+  Mat             A    = kkt->Kblk; /* for the communicator and the log */
+  MPI_Comm        comm = PetscObjectComm((PetscObject)A);
   PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
-  M2dMumps       *mu;
-  PetscInt        rs, re, M, nnz = 0, *lamall, *lamsorted, k = 0;
+  M2dMumps       *mu = NULL;
+  PetscInt        rs, re, n, G, nI, ng = 0, *lamall, *lamsorted, *lamperm, *sepall = NULL, *gloc, nnz = 0, k = 0;
   const PetscInt *il;
-  MUMPS_INT      *irn, *jcn, *perm = NULL, *listvar = NULL;
-  PetscScalar    *a, *S = NULL;
+  MUMPS_INT      *irn = NULL, *jcn = NULL, *perm = NULL, *listvar = NULL;
+  PetscScalar    *a = NULL, *Sp = NULL, *SG;
   PetscLogDouble  t0;
+  RowMap          rm;
+  KKTRows         kr;
   M2dOrdering     ord = s->kkt_ordering;
   int             sym = s->kkt_ldlt ? 2 : 0; /* LDL^T of the symmetric matrix, or LU */
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(cs, sizeof(*cs)));
-  PetscCheck(kkt->gamma > 0 && kkt->aij, comm, PETSC_ERR_PLIB, "condensed path needs the augmented monolithic KKT matrix");
+  PetscCheck(kkt->gamma > 0 && kkt->Kblk && kkt->Ct && kkt->CA && kkt->Z, comm, PETSC_ERR_PLIB, "condensed path needs the augmented monolithic KKT matrix");
   PetscCall(RegisterEvents());
   cs->kkt = kkt;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
 
   t0 = MPI_Wtime();
-  /* the multipliers: global indices of A, in the order of kkt->r (rank by rank) */
+  /* the multipliers: global rows of A, in the order of kkt->r (rank by rank) */
   PetscCall(VecGetLocalSize(kkt->r, &cs->n));
   PetscCall(VecGetSize(kkt->r, &cs->N));
   PetscCall(VecGetOwnershipRange(kkt->r, &cs->lo, NULL));
-  PetscCall(PetscMalloc2(cs->N + 1, &lamall, cs->N + 1, &lamsorted));
+  PetscCall(PetscMalloc3(cs->N + 1, &lamall, cs->N + 1, &lamsorted, cs->N + 1, &lamperm));
   PetscCall(PetscMalloc2(size, &rc, size, &displ));
   PetscCall(PetscMPIIntCast(cs->n, &nn));
   PetscCallMPI(MPI_Allgather(&nn, 1, MPI_INT, rc, 1, MPI_INT, comm));
@@ -172,171 +265,307 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   PetscCall(ISGetIndices(kkt->isl, &il));
   PetscCallMPI(MPI_Allgatherv(il, nn, MPIU_INT, lamall, rc, displ, MPIU_INT, comm));
   PetscCall(ISRestoreIndices(kkt->isl, &il));
-  PetscCall(PetscArraycpy(lamsorted, lamall, cs->N));
-  PetscCall(PetscSortInt(cs->N, lamsorted));
-
-  PetscCall(PetscLogEventBegin(ev_order, kkt->A, 0, 0, 0));
-  if (ord == M2D_ORDERING_METIS) PetscCall(Ordering(kkt, lamsorted, cs->N, &perm));
-  PetscCall(PetscLogEventEnd(ev_order, kkt->A, 0, 0, 0));
-
-  /* the local rows as 1-based triples */
-  PetscCall(MatGetOwnershipRange(kkt->A, &rs, &re));
-  PetscCall(MatGetSize(kkt->A, &M, NULL));
-  for (PetscInt i = rs; i < re; i++) {
-    PetscInt        nc;
-    const PetscInt *cols;
-    PetscCall(MatGetRow(kkt->A, i, &nc, &cols, NULL));
-    for (PetscInt j = 0; j < nc; j++) nnz += !sym || cols[j] >= i;
-    PetscCall(MatRestoreRow(kkt->A, i, &nc, &cols, NULL));
+  for (PetscInt j = 0; j < cs->N; j++) {
+    lamsorted[j] = lamall[j];
+    lamperm[j]   = j;
   }
-  PetscCall(PetscMalloc3(nnz + 1, &irn, nnz + 1, &jcn, nnz + 1, &a));
-  for (PetscInt i = rs; i < re; i++) {
-    PetscInt           nc;
-    const PetscInt    *cols;
-    const PetscScalar *v;
-    PetscCall(MatGetRow(kkt->A, i, &nc, &cols, &v));
-    for (PetscInt j = 0; j < nc; j++) {
-      if (sym && cols[j] < i) continue; /* symmetric: the upper triangle */
-      irn[k] = (MUMPS_INT)(i + 1);
-      jcn[k] = (MUMPS_INT)(cols[j] + 1);
-      a[k++] = v[j];
-    }
-    PetscCall(MatRestoreRow(kkt->A, i, &nc, &cols, &v));
-  }
+  PetscCall(PetscSortIntWithArray(cs->N, lamsorted, lamperm));
 
-  PetscCall(PetscNew(&mu));
-  cs->mumps = mu;
-  PetscCallMPI(MPI_Comm_dup(comm, &mu->comm));
-  mu->id.comm_fortran = (MUMPS_INT)MPI_Comm_c2f(mu->comm);
-  mu->id.par          = 1;
-  mu->id.sym          = (MUMPS_INT)sym;
-  PetscCall(MumpsCall(mu, -1, "initialisation"));
-  mu->id.ICNTL(1)  = s->icntl4 > 0 ? 6 : -1;
-  mu->id.ICNTL(2)  = -1;
-  mu->id.ICNTL(3)  = s->icntl4 > 0 ? 6 : -1;
-  mu->id.ICNTL(4)  = (MUMPS_INT)s->icntl4;
-  mu->id.ICNTL(7)  = ord == M2D_ORDERING_METIS ? 1 : (MUMPS_INT)s->icntl7;
-  mu->id.ICNTL(8)  = (MUMPS_INT)s->icntl8;
-  mu->id.ICNTL(14) = (MUMPS_INT)s->icntl14;
-  mu->id.ICNTL(18) = 3; /* distributed assembled matrix */
-  mu->id.ICNTL(19) = 1; /* Schur complement, whole, on rank 0 */
-  mu->id.ICNTL(28) = 1; /* sequential analysis (the ordering is given) */
-  mu->id.ICNTL(58) = (MUMPS_INT)s->icntl58;
-  mu->id.n         = (MUMPS_INT)M;
-  mu->id.nnz_loc   = (MUMPS_INT8)nnz;
-  mu->id.irn_loc   = irn;
-  mu->id.jcn_loc   = jcn;
-  mu->id.a_loc     = a;
-  if (rank == 0) {
-    PetscCall(PetscMalloc2(cs->N + 1, &listvar, cs->N * cs->N + 1, &S));
-    for (PetscInt j = 0; j < cs->N; j++) listvar[j] = (MUMPS_INT)(lamall[j] + 1);
-    mu->id.perm_in       = perm;
-    mu->id.size_schur    = (MUMPS_INT)cs->N;
-    mu->id.listvar_schur = listvar;
-    mu->id.schur         = S;
-    mu->id.schur_lld     = (MUMPS_INT)cs->N;
+  /* interior rows and the interface; METIS orders the interior */
+  PetscCall(PetscLogEventBegin(ev_order, A, 0, 0, 0));
+  PetscCall(KKTRowsCreate(kkt, &kr));
+  PetscCall(Classify(cs, &kr, &sepall));
+  n  = kr.nu + kr.nl;
+  rs = kr.ur[rank] + kr.lr[rank];
+  re = rs + n;
+  nI = cs->nI;
+  G  = cs->ns + cs->N;
+  rm = (RowMap){rs, re, cs->ns, cs->N, cs->lidx, sepall, lamsorted, lamperm};
+  if (ord == M2D_ORDERING_METIS && nI > 0) {
+    Mat             Ad = A;
+    IS              last, posis;
+    PetscInt       *lastidx, nlast = 0;
+    const PetscInt *pos;
+    if (size > 1) PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, NULL, NULL));
+    PetscCall(PetscMalloc1(kr.nu - nI + 1, &lastidx));
+    for (PetscInt i = 0; i < kr.nu; i++) /* the u rows: the separator stays out */
+      if (cs->lidx[i] < 0) lastidx[nlast++] = i;
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nlast, lastidx, PETSC_OWN_POINTER, &last));
+    PetscCall(M2dOrderingMetis(Ad, last, &posis));
+    PetscCall(ISDestroy(&last));
+    PetscCall(PetscMalloc1(n + 1, &perm)); /* interior part; the interface is appended below */
+    PetscCall(ISGetIndices(posis, &pos));
+    for (PetscInt i = 0; i < kr.nu; i++)
+      if (cs->lidx[i] >= 0) perm[cs->lidx[i]] = (MUMPS_INT)(pos[i] + 1);
+    PetscCall(ISRestoreIndices(posis, &pos));
+    PetscCall(ISDestroy(&posis));
   }
-  PetscCall(PetscLogEventBegin(ev_analysis, kkt->A, 0, 0, 0));
-  PetscCall(MumpsCall(mu, 1, "analysis"));
-  PetscCall(PetscLogEventEnd(ev_analysis, kkt->A, 0, 0, 0));
-  PetscCall(PetscLogEventBegin(ev_factor, kkt->A, 0, 0, 0));
-  PetscCall(MumpsCall(mu, 2, "factorization"));
-  PetscCall(PetscLogFlops(mu->id.RINFOG(3) / size));
-  PetscCall(PetscInfo(kkt->A, "MUMPS factorization: %g flops on this rank (RINFO(3)), %g in all\n", (double)mu->id.rinfo[2], (double)mu->id.RINFOG(3)));
-  PetscCall(PetscLogEventEnd(ev_factor, kkt->A, 0, 0, 0));
-  /* the solves need neither the matrix nor the ordering */
-  PetscCall(PetscFree3(irn, jcn, a));
-  mu->id.irn_loc = mu->id.jcn_loc = NULL;
-  mu->id.a_loc   = NULL;
-  PetscCall(PetscFree(perm));
-  mu->id.perm_in = NULL;
+  PetscCall(PetscLogEventEnd(ev_order, A, 0, 0, 0));
+  PetscCall(PetscInfo(NULL, "interface: %" PetscInt_FMT " separator rows, %" PetscInt_FMT " multipliers; this rank: %" PetscInt_FMT " interior rows\n", cs->ns, cs->N, nI));
 
-  /* S0 (rows by rows on rank 0) -> rows lo..lo+n-1 on each rank, column-major */
-  {
-    PetscScalar *buf;
-    PetscMPIInt *rc2 = NULL, *d2 = NULL, nr;
-    PetscCall(PetscMalloc1(cs->n * cs->N + 1, &buf));
-    PetscCall(PetscMalloc1(cs->n * cs->N + 1, &cs->S));
-    if (rank == 0) {
-      PetscCall(PetscMalloc2(size, &rc2, size, &d2));
-      for (PetscMPIInt p = 0; p < size; p++) {
-        PetscCall(PetscMPIIntCast(rc[p] * cs->N, &rc2[p]));
-        PetscCall(PetscMPIIntCast(displ[p] * cs->N, &d2[p]));
+  /* this rank's matrix: the interior rows, then the interface unknowns they
+   * couple to (numbered as met: gloc, cs->glist), as 1-based triples */
+  PetscCall(PetscMalloc1(G + 1, &gloc));
+  PetscCall(PetscMalloc1(G + 1, &cs->glist));
+  for (PetscInt g = 0; g < G; g++) gloc[g] = -1;
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 1) PetscCall(PetscMalloc3(nnz + 1, &irn, nnz + 1, &jcn, nnz + 1, &a));
+    for (PetscInt i = 0; i < n; i++) {
+      PetscInt           nc, li = cs->lidx[i];
+      const PetscInt    *cols;
+      const PetscScalar *v;
+      if (li < 0) continue;
+      PetscCall(KKTRowsGet(&kr, i, &nc));
+      cols = kr.cols;
+      v    = kr.vals;
+      for (PetscInt j = 0; j < nc; j++) {
+        PetscInt cl = ColClass(&rm, cols[j]);
+        PetscCheck(cl != M2D_OTHER_INTERIOR, PETSC_COMM_SELF, PETSC_ERR_PLIB, "row %" PetscInt_FMT " couples to another rank's interior row %" PetscInt_FMT, rs + i, cols[j]);
+        if (cl >= 0) {
+          if (sym && cl < li) continue; /* symmetric: the upper triangle */
+          if (pass == 1) {
+            irn[k] = (MUMPS_INT)(li + 1);
+            jcn[k] = (MUMPS_INT)(cl + 1);
+            a[k++] = v[j];
+          } else nnz++;
+        } else {
+          PetscInt g = -1 - cl;
+          if (pass == 0) {
+            if (gloc[g] < 0) {
+              gloc[g]        = ng;
+              cs->glist[ng++] = g;
+            }
+            nnz += sym ? 1 : 2;
+          } else {
+            irn[k] = (MUMPS_INT)(li + 1);
+            jcn[k] = (MUMPS_INT)(nI + gloc[g] + 1);
+            a[k++] = v[j];
+            if (!sym) {
+              irn[k] = jcn[k - 1];
+              jcn[k] = irn[k - 1];
+              a[k++] = v[j];
+            }
+          }
+        }
       }
     }
-    PetscCall(PetscMPIIntCast(cs->n * cs->N, &nr));
-    if (rank == 0 && sym) /* MUMPS returns the lower triangle, by rows: mirror it */
-      for (PetscInt i = 0; i < cs->N; i++)
-        for (PetscInt j = i + 1; j < cs->N; j++) S[i * cs->N + j] = S[j * cs->N + i];
-    PetscCallMPI(MPI_Scatterv(S, rc2, d2, MPIU_SCALAR, buf, nr, MPIU_SCALAR, 0, comm));
-    for (PetscInt i = 0; i < cs->n; i++)
-      for (PetscInt j = 0; j < cs->N; j++) cs->S[i + j * cs->n] = buf[i * cs->N + j];
-    PetscCall(PetscFree(buf));
-    if (rank == 0) PetscCall(PetscFree2(rc2, d2));
   }
-  if (rank == 0) PetscCall(PetscFree2(listvar, S));
-  mu->id.listvar_schur = NULL;
-  mu->id.schur         = NULL;
+  cs->ng = ng;
+  if (perm) { /* the interface unknowns last */
+    MUMPS_INT *p2;
+    PetscCall(PetscMalloc1(nI + ng, &p2));
+    PetscCall(PetscArraycpy(p2, perm, nI));
+    for (PetscInt g = 0; g < ng; g++) p2[nI + g] = (MUMPS_INT)(nI + g + 1);
+    PetscCall(PetscFree(perm));
+    perm = p2;
+  }
+
+  /* every rank with interior rows: its own sequential MUMPS, the Schur
+   * complement on its interface unknowns (-B A_II^-1 B^T, dense, ng x ng) */
+  if (nI > 0) {
+    PetscCall(PetscNew(&mu));
+    PetscCallMPI(MPI_Comm_dup(PETSC_COMM_SELF, &mu->comm));
+    mu->id.comm_fortran = (MUMPS_INT)MPI_Comm_c2f(mu->comm);
+    mu->id.par          = 1;
+    mu->id.sym          = (MUMPS_INT)sym;
+  }
+  cs->mumps = mu;
+  PetscCall(MumpsCall(comm, mu, -1, "initialisation"));
+  if (mu) {
+    PetscBool out = (PetscBool)(s->icntl4 > 0 && rank == 0);
+    mu->id.ICNTL(1)  = out ? 6 : -1;
+    mu->id.ICNTL(2)  = -1;
+    mu->id.ICNTL(3)  = out ? 6 : -1;
+    mu->id.ICNTL(4)  = (MUMPS_INT)s->icntl4;
+    mu->id.ICNTL(7)  = perm ? 1 : (MUMPS_INT)s->icntl7;
+    mu->id.ICNTL(8)  = (MUMPS_INT)s->icntl8;
+    mu->id.ICNTL(14) = (MUMPS_INT)s->icntl14;
+    mu->id.ICNTL(18) = 0; /* the matrix on this rank, which is MUMPS' host */
+    mu->id.ICNTL(19) = ng > 0 ? 1 : 0;
+    mu->id.ICNTL(58) = (MUMPS_INT)s->icntl58;
+    mu->id.n         = (MUMPS_INT)(nI + ng);
+    mu->id.nnz       = (MUMPS_INT8)nnz;
+    mu->id.irn       = irn;
+    mu->id.jcn       = jcn;
+    mu->id.a         = a;
+    mu->id.perm_in   = perm;
+    if (ng > 0) {
+      PetscCall(PetscMalloc2(ng, &listvar, ng * ng, &Sp));
+      for (PetscInt g = 0; g < ng; g++) listvar[g] = (MUMPS_INT)(nI + g + 1);
+      mu->id.size_schur    = (MUMPS_INT)ng;
+      mu->id.listvar_schur = listvar;
+      mu->id.schur         = Sp;
+      mu->id.schur_lld     = (MUMPS_INT)ng;
+    }
+  }
+  PetscCall(PetscLogEventBegin(ev_analysis, A, 0, 0, 0));
+  PetscCall(MumpsCall(comm, mu, 1, "analysis"));
+  PetscCall(PetscLogEventEnd(ev_analysis, A, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_factor, A, 0, 0, 0));
+  PetscCall(MumpsCall(comm, mu, 2, "factorization"));
+  if (mu) {
+    PetscCall(PetscLogFlops(mu->id.RINFO(3)));
+    PetscCall(PetscInfo(NULL, "MUMPS on this rank: %" PetscInt_FMT " interior rows, %" PetscInt_FMT " interface unknowns, %g flops (RINFO(3))\n", nI, ng, (double)mu->id.RINFO(3)));
+    mu->id.irn = mu->id.jcn = NULL;
+    mu->id.a                = NULL;
+    mu->id.perm_in          = NULL;
+  }
+  PetscCall(PetscFree3(irn, jcn, a)); /* the solves need neither the matrix nor the ordering */
+  PetscCall(PetscFree(perm));
+  PetscCall(PetscLogEventEnd(ev_factor, A, 0, 0, 0));
+
+  /* the interface matrix S_G = A_GG + sum over ranks of their Schur
+   * complements, dense (G x G), on every rank; then the separator is
+   * eliminated: S0 = S_ll - X^T X, X = L^-1 S_sl, L L^T = S_ss */
+  PetscCall(PetscLogEventBegin(ev_iface, A, 0, 0, 0));
+  PetscCall(PetscCalloc1(G * G + 1, &SG));
+  for (PetscInt p = 0; p < ng; p++) /* sym: MUMPS gives the lower triangle by rows */
+    for (PetscInt q = 0; q < ng; q++) SG[cs->glist[p] + cs->glist[q] * G] += sym && q > p ? Sp[q * ng + p] : Sp[p * ng + q];
+  for (PetscInt i = 0; i < n; i++) {
+    PetscInt nc, li = cs->lidx[i];
+    if (li >= 0) continue;
+    PetscCall(KKTRowsGet(&kr, i, &nc));
+    for (PetscInt j = 0; j < nc; j++) {
+      PetscInt cl = ColClass(&rm, kr.cols[j]);
+      if (cl < 0 && cl != M2D_OTHER_INTERIOR) SG[(-1 - li) + (-1 - cl) * G] += kr.vals[j];
+    }
+  }
+  PetscCall(PetscFree2(listvar, Sp));
+  if (mu) {
+    mu->id.listvar_schur = NULL;
+    mu->id.schur         = NULL;
+  }
+  for (PetscInt off = 0; off < G * G;) { /* MPI counts are int */
+    PetscMPIInt cnt;
+    PetscCall(PetscMPIIntCast(PetscMin(G * G - off, 1 << 30), &cnt));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, SG + off, cnt, MPIU_SCALAR, MPIU_SUM, comm));
+    off += cnt;
+  }
+  PetscCall(PetscMalloc1(cs->n * cs->N + 1, &cs->S));
+  for (PetscInt j = 0; j < cs->N; j++)
+    for (PetscInt i = 0; i < cs->n; i++) cs->S[i + j * cs->n] = SG[(cs->ns + cs->lo + i) + (cs->ns + j) * G];
+  if (cs->ns > 0) {
+    PetscBLASInt bs, bG, bn, bN, info;
+    PetscScalar  one = 1.0, mone = -1.0;
+    PetscMPIInt *rcx, *dx;
+    PetscCall(PetscBLASIntCast(cs->ns, &bs));
+    PetscCall(PetscBLASIntCast(G, &bG));
+    PetscCall(PetscBLASIntCast(cs->n, &bn));
+    PetscCall(PetscBLASIntCast(cs->N, &bN));
+    PetscCallBLAS("LAPACKpotrf", LAPACKpotrf_("L", &bs, SG, &bG, &info));
+    PetscCheck(info == 0, comm, PETSC_ERR_USER_INPUT, "the stiffness with every candidate contact node tied is singular: a body is held by nothing (check -dirichlet and the contact pair; separator pivot %d)", (int)info);
+    PetscCall(PetscMalloc2(cs->ns * cs->ns, &cs->L, cs->ns * cs->N + 1, &cs->X));
+    for (PetscInt j = 0; j < cs->ns; j++)
+      for (PetscInt i = 0; i < cs->ns; i++) cs->L[i + j * cs->ns] = i >= j ? SG[i + j * G] : 0.0;
+    /* this rank's columns of X, then all of them */
+    for (PetscInt j = 0; j < cs->n; j++)
+      for (PetscInt i = 0; i < cs->ns; i++) cs->X[i + (cs->lo + j) * cs->ns] = SG[i + (cs->ns + cs->lo + j) * G];
+    if (cs->n > 0) PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "N", "N", &bs, &bn, &one, cs->L, &bs, cs->X + cs->lo * cs->ns, &bs));
+    PetscCall(PetscMalloc2(size, &rcx, size, &dx));
+    for (PetscMPIInt p = 0; p < size; p++) {
+      PetscCall(PetscMPIIntCast(rc[p] * cs->ns, &rcx[p]));
+      PetscCall(PetscMPIIntCast(displ[p] * cs->ns, &dx[p]));
+    }
+    PetscCallMPI(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, cs->X, rcx, dx, MPIU_SCALAR, comm));
+    PetscCall(PetscFree2(rcx, dx));
+    if (cs->n > 0 && cs->N > 0) PetscCallBLAS("BLASgemm", BLASgemm_("T", "N", &bn, &bN, &bs, &mone, cs->X + cs->lo * cs->ns, &bs, cs->X, &bs, &one, cs->S, &bn));
+    PetscCall(PetscLogFlops(cs->ns * (PetscLogDouble)cs->ns * cs->ns / 3.0 + cs->ns * (PetscLogDouble)cs->ns * cs->n + 2.0 * cs->n * cs->N * cs->ns));
+  }
+  PetscCall(PetscFree(SG));
+  PetscCall(PetscLogEventEnd(ev_iface, A, 0, 0, 0));
+  PetscCall(PetscFree(gloc));
+  PetscCall(PetscFree(sepall));
+  PetscCall(KKTRowsDestroy(&kr));
   PetscCall(PetscFree2(rc, displ));
-  PetscCall(PetscFree2(lamall, lamsorted));
+  PetscCall(PetscFree3(lamall, lamsorted, lamperm));
   cs->factor_time = MPI_Wtime() - t0;
 
+  PetscCall(PetscMalloc3(nI + ng + 1, &cs->b, ng + 1, &cs->red, G + 1, &cs->g));
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));
-  PetscCall(VecScatterCreateToZero(cs->rhs, &cs->toz, &cs->rhs0));
   PetscCall(VecScatterCreateToAll(kkt->r, &cs->toall, &cs->all));
-  PetscCall(VecScatterCreateToZero(kkt->r, &cs->lamz, &cs->lam0));
   PetscCall(PetscMalloc2(cs->N * cs->N + 1, &cs->lu, cs->N + 1, &cs->piv));
   PetscFunctionReturn(0);
 }
 
-/* MUMPS' solve phase with the Schur complement on the multipliers (ICNTL(26)):
- * phase 1, condensation (forward elimination of [f; 0]): the reduced
- * right-hand side -C K_g^-1 f = -w comes back on rank 0; phase 2, expansion
- * (backward substitution) from the Schur unknowns nu: u = K_g^-1 (f - C^T nu).
- * One solve's work for both; the host vector keeps what phase 1 left. */
+/* The solves with the factors (condensed.h). Phase 1, condensation of
+ * [f; 0]: every rank eliminates its interior (MUMPS' forward phase,
+ * ICNTL(26) = 1), the interface right-hand side g is summed over the ranks,
+ * the separator is eliminated, and the reduced right-hand side of the
+ * multipliers, -C K_g^-1 f = -w, is left in lam. Phase 2, expansion from the
+ * multipliers nu (in lam): the separator x_s = S_ss^-1 (g_s - S_sl nu), then
+ * every rank's interior (MUMPS' backward phase, ICNTL(26) = 2):
+ * u = K_g^-1 (f - C^T nu). Phase 2 uses what phase 1 left (cs->b, cs->g). */
 static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
 {
-  M2dMumps    *mu = cs->mumps;
-  PetscScalar *b = NULL, *red = NULL;
-  PetscMPIInt  rank;
+  M2dMumps          *mu   = cs->mumps;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)cs->kkt->Kblk);
+  PetscInt           n, nI = cs->nI, ng = cs->ng, ns = cs->ns, G = ns + cs->N;
+  PetscScalar       *r, *g = cs->g, one = 1.0, mone = -1.0;
+  const PetscScalar *nu;
+  PetscBLASInt       bs, bN, ione = 1;
+  PetscMPIInt        cnt;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(mu->comm, &rank));
   PetscCall(PetscLogEventBegin(ev_solve, 0, 0, 0, 0));
+  PetscCall(PetscBLASIntCast(ns, &bs));
+  PetscCall(PetscBLASIntCast(cs->N, &bN));
+  PetscCall(VecGetLocalSize(cs->rhs, &n));
   if (phase == 1) {
     PetscCall(VecZeroEntries(cs->rhs));
     PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_FORWARD, cs->kkt->f));
-    PetscCall(VecScatterBegin(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(cs->toz, cs->rhs, cs->rhs0, INSERT_VALUES, SCATTER_FORWARD));
-  } else { /* nu -> rank 0 */
-    PetscCall(VecScatterBegin(cs->lamz, lam, cs->lam0, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(cs->lamz, lam, cs->lam0, INSERT_VALUES, SCATTER_FORWARD));
-  }
-  if (rank == 0) {
-    PetscCall(VecGetArray(cs->rhs0, &b));
-    PetscCall(VecGetArray(cs->lam0, &red));
-    mu->id.rhs     = b;
-    mu->id.lrhs    = mu->id.n;
-    mu->id.redrhs  = red;
-    mu->id.lredrhs = (MUMPS_INT)cs->N;
-  }
-  mu->id.nrhs      = 1;
-  mu->id.ICNTL(20) = 0; /* dense right-hand side on rank 0 */
-  mu->id.ICNTL(21) = 0; /* solution on rank 0, in place */
-  mu->id.ICNTL(26) = phase;
-  PetscCall(MumpsCall(mu, 3, phase == 1 ? "solve (condensation)" : "solve (expansion)"));
-  if (rank == 0) {
-    PetscCall(VecRestoreArray(cs->lam0, &red));
-    PetscCall(VecRestoreArray(cs->rhs0, &b));
-  }
-  mu->id.rhs    = NULL;
-  mu->id.redrhs = NULL;
-  if (phase == 1) { /* -w -> layout of kkt->r */
-    PetscCall(VecScatterBegin(cs->lamz, cs->lam0, lam, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(cs->lamz, cs->lam0, lam, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecGetArray(cs->rhs, &r));
+    for (PetscInt i = 0; i < n; i++)
+      if (cs->lidx[i] >= 0) cs->b[cs->lidx[i]] = r[i];
+    for (PetscInt k = 0; k < ng; k++) cs->b[nI + k] = 0.0;
   } else {
-    PetscCall(VecScatterBegin(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(cs->toz, cs->rhs0, cs->rhs, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterBegin(cs->toall, lam, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(cs->toall, lam, cs->all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecGetArrayRead(cs->all, &nu));
+    /* x_s = L^-T (z - X nu); phase 1 left z = L^-1 g_s in g */
+    if (ns > 0) {
+      if (cs->N > 0) PetscCallBLAS("BLASgemv", BLASgemv_("N", &bs, &bN, &mone, cs->X, &bs, nu, &ione, &one, g, &ione));
+      PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "T", "N", &bs, &ione, &one, cs->L, &bs, g, &bs));
+    }
+    for (PetscInt j = 0; j < cs->N; j++) g[ns + j] = nu[j];
+    PetscCall(VecRestoreArrayRead(cs->all, &nu));
+    for (PetscInt k = 0; k < ng; k++) cs->red[k] = g[cs->glist[k]];
+    PetscCall(VecGetArray(cs->rhs, &r));
+  }
+  if (mu) {
+    mu->id.rhs       = cs->b;
+    mu->id.lrhs      = (MUMPS_INT)(nI + ng);
+    mu->id.nrhs      = 1;
+    mu->id.redrhs    = cs->red;
+    mu->id.lredrhs   = (MUMPS_INT)PetscMax(ng, 1);
+    mu->id.ICNTL(20) = 0; /* dense right-hand side */
+    mu->id.ICNTL(21) = 0; /* solution in place */
+    mu->id.ICNTL(26) = ng > 0 ? phase : 0;
+  }
+  /* a rank without interface unknowns solved all in phase 1 */
+  PetscCall(MumpsCall(comm, mu && (ng > 0 || phase == 1) ? mu : NULL, 3, phase == 1 ? "solve (condensation)" : "solve (expansion)"));
+  if (phase == 1) {
+    const PetscScalar *lc;
+    PetscScalar       *lv;
+    for (PetscInt k = 0; k < G; k++) g[k] = 0.0;
+    for (PetscInt k = 0; k < ng; k++) g[cs->glist[k]] += cs->red[k];
+    for (PetscInt i = 0; i < n; i++) /* f on the own separator rows (0 on the multiplier rows) */
+      if (cs->lidx[i] < 0) g[-1 - cs->lidx[i]] += r[i];
+    PetscCall(PetscMPIIntCast(G, &cnt));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, g, cnt, MPIU_SCALAR, MPIU_SUM, comm));
+    if (ns > 0) PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "N", "N", &bs, &ione, &one, cs->L, &bs, g, &bs)); /* z */
+    /* -w = g_l - X^T z, this rank's rows */
+    PetscCall(VecGetArray(lam, &lv));
+    for (PetscInt i = 0; i < cs->n; i++) {
+      PetscScalar t = g[ns + cs->lo + i];
+      lc            = cs->X ? cs->X + (cs->lo + i) * ns : NULL;
+      for (PetscInt k = 0; k < ns; k++) t -= lc[k] * g[k];
+      lv[i] = t;
+    }
+    PetscCall(VecRestoreArray(lam, &lv));
+    PetscCall(VecRestoreArray(cs->rhs, &r));
+  } else {
+    for (PetscInt i = 0; i < n; i++) r[i] = cs->lidx[i] >= 0 ? cs->b[cs->lidx[i]] : g[-1 - cs->lidx[i]];
+    PetscCall(VecRestoreArray(cs->rhs, &r));
     PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_REVERSE, u));
   }
   PetscCall(PetscLogEventEnd(ev_solve, 0, 0, 0, 0));
@@ -348,7 +577,7 @@ PetscErrorCode CondensedReducedSetup(Condensed *cs)
   KKT *kkt = cs->kkt;
 
   PetscFunctionBeginUser;
-  PetscCheck(cs->S && !cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: one setup after the factorization");
+  PetscCheck(cs->S && !cs->w, PetscObjectComm((PetscObject)kkt->Kblk), PETSC_ERR_PLIB, "reduced iteration: one setup after the factorization");
   PetscCall(VecDuplicate(kkt->r, &cs->w));
   PetscCall(SchurPhase(cs, 1, cs->w, NULL)); /* -w */
   PetscCall(VecScale(cs->w, -1.0));
@@ -463,7 +692,7 @@ PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
   KKT *kkt = cs->kkt;
 
   PetscFunctionBeginUser;
-  PetscCheck(cs->w, PetscObjectComm((PetscObject)kkt->A), PETSC_ERR_PLIB, "reduced iteration: recovery before the setup");
+  PetscCheck(cs->w, PetscObjectComm((PetscObject)kkt->Kblk), PETSC_ERR_PLIB, "reduced iteration: recovery before the setup");
   PetscCall(SchurPhase(cs, 2, nu, u)); /* u = K_g^-1 (f - C^T nu) */
   PetscFunctionReturn(0);
 }
@@ -479,13 +708,13 @@ PetscErrorCode CondensedDestroy(Condensed *cs)
   }
   PetscCall(VecDestroy(&cs->w));
   PetscCall(PetscFree(cs->S));
+  PetscCall(PetscFree(cs->lidx));
+  PetscCall(PetscFree(cs->glist));
+  PetscCall(PetscFree2(cs->L, cs->X));
+  PetscCall(PetscFree3(cs->b, cs->red, cs->g));
   PetscCall(PetscFree2(cs->lu, cs->piv));
   PetscCall(VecDestroy(&cs->rhs));
-  PetscCall(VecDestroy(&cs->rhs0));
-  PetscCall(VecScatterDestroy(&cs->toz));
   PetscCall(VecDestroy(&cs->all));
   PetscCall(VecScatterDestroy(&cs->toall));
-  PetscCall(VecDestroy(&cs->lam0));
-  PetscCall(VecScatterDestroy(&cs->lamz));
   PetscFunctionReturn(0);
 }

@@ -112,7 +112,8 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
     Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->CA, kkt->Z};
     PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   }
-  if (s->kkt_mat == KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
+  if (s->kkt_mat == KKT_AIJ && s->unilateral && s->condensed && kkt->gamma > 0) kkt->A = NULL; /* condensed.c reads the blocks */
+  else if (s->kkt_mat == KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
   else {
     PetscCall(PetscObjectReference((PetscObject)kkt->nest));
     kkt->A = kkt->nest;

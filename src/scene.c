@@ -248,7 +248,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   {
     const char *const paths[] = {"full", "condensed"};
     PetscInt          k       = 1;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once by MUMPS, called directly, with a Schur complement on the multipliers; the steps run on the multipliers with dense n_lambda algebra; 1 or more ranks) or full (the KKT matrix refactored at every step through PETSc's PCLU; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once: every rank factors its own rows with its own MUMPS, called directly, with a Schur complement on the interface, the multipliers and the rows coupled to another rank; the steps run on the multipliers with dense n_lambda algebra; 1 or more ranks) or full (the KKT matrix refactored at every step through PETSc's PCLU; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
     s->condensed = (PetscBool)(k == 1);
   }
   {
