@@ -316,6 +316,8 @@ static PetscErrorCode PlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, P
   PetscFunctionReturn(0);
 }
 
+static PetscLogEvent ev_read, ev_skel, ev_part, ev_plex; /* phases of the mesh stage */
+
 /* -mesh_partitioner metis: the part of every cell, libmetis on the cells sharing an edge (rank 0) */
 static PetscErrorCode PartitionCells(const Skel *sk, PetscMPIInt size, PetscInt where[])
 {
@@ -363,7 +365,9 @@ static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const Pets
     PetscCall(PetscMalloc4(nc + 1, &where, nv + 1, &vown, ne + 1, &eown, nv + 1, &vidx));
     PetscCall(PetscMalloc5(ne + 1, &eidx, nv + 1, &vst, ne + 1, &est, nv + 1, &vloc, ne + 1, &eloc));
     PetscCall(PetscCalloc6(size, &vl, size, &el, size, &cl, size, &ncp, size, &nvp, size, &nep));
+    PetscCall(PetscLogEventBegin(ev_part, 0, 0, 0, 0));
     PetscCall(PartitionCells(sk, size, where));
+    PetscCall(PetscLogEventEnd(ev_part, 0, 0, 0, 0));
     for (PetscInt v = 0; v < nv; v++) vown[v] = size, vst[v] = -1, vloc[v] = -1;
     for (PetscInt e = 0; e < ne; e++) eown[e] = size, est[e] = -1, eloc[e] = -1;
     for (PetscInt c = 0; c < nc; c++) {
@@ -490,7 +494,9 @@ static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const Pets
     PetscSFNode *iremote;
     PetscSF      sf;
     DM           cdm;
+    PetscCall(PetscLogEventBegin(ev_plex, 0, 0, 0, 0));
     PetscCall(PlexFromLists(comm, ncl, nvl, nel, cc, co, ec, rbuf, dm));
+    PetscCall(PetscLogEventEnd(ev_plex, 0, 0, 0, 0));
     PetscCall(PetscMalloc1(nl + 1, &ilocal));
     PetscCall(PetscMalloc1(nl + 1, &iremote));
     for (PetscInt i = 0; i < nl; i++) {
@@ -532,15 +538,23 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   PetscCall(PetscMemzero(m, sizeof(*m)));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (!ev_read) {
+    PetscCall(PetscLogEventRegister("M2dMeshRead", DM_CLASSID, &ev_read));
+    PetscCall(PetscLogEventRegister("M2dMeshEdges", DM_CLASSID, &ev_skel));
+    PetscCall(PetscLogEventRegister("M2dMeshPartition", DM_CLASSID, &ev_part));
+    PetscCall(PetscLogEventRegister("M2dMeshPlex", DM_CLASSID, &ev_plex));
+  }
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCall(PetscSNPrintf(m->files, sizeof(m->files), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
   PetscCall(PetscCalloc1(1, &ri));
   memset(msh, 0, sizeof(msh));
+  PetscCall(PetscLogEventBegin(ev_read, 0, 0, 0, 0));
   if (rank == 0) {
     if (ReadMerge(s, ri, &nc, &nv, &cells, &coords, &cellbody, msh, nodeoff, &nodemap)) {
       if (!ri->err[0]) snprintf(ri->err, sizeof(ri->err), "cannot read the mesh");
     }
   }
+  PetscCall(PetscLogEventEnd(ev_read, 0, 0, 0, 0));
   PetscCallMPI(MPI_Bcast(ri, (int)sizeof(*ri), MPI_BYTE, 0, comm));
   if (ri->err[0]) {
     for (int f = 0; f < 2; f++) MshFree(&msh[f]);
@@ -562,10 +576,12 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
 
   err[0] = 0;
   PetscCall(PetscMemzero(&sk, sizeof(sk)));
+  PetscCall(PetscLogEventBegin(ev_skel, 0, 0, 0, 0));
   if (rank == 0) {
     PetscCall(SkelBuild(nc, nv, cells, &sk));
     PetscCall(GroupEntries(s, m, msh, nodeoff, nodemap, &sk, &nent, &ent, err, sizeof(err)));
   }
+  PetscCall(PetscLogEventEnd(ev_skel, 0, 0, 0, 0));
   for (int f = 0; f < 2; f++) MshFree(&msh[f]);
   free(nodemap);
   if (err[0]) { /* rank 0: a group that names no edge or vertex */
@@ -579,7 +595,9 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
 
   if (size > 1 && s->mesh_partitioner == M2D_PARTITIONER_METIS) PetscCall(BuildDistributed(comm, &sk, coords, cellbody, nent, ent, &dm, &pbody, &lab, &nlab));
   else { /* the whole plex on rank 0 */
+    PetscCall(PetscLogEventBegin(ev_plex, 0, 0, 0, 0));
     PetscCall(PlexFromLists(comm, nc, nv, sk.ne, sk.side, sk.ornt, sk.ev, coords, &dm));
+    PetscCall(PetscLogEventEnd(ev_plex, 0, 0, 0, 0));
     PetscCall(PetscMalloc1(nc + nv + sk.ne + 1, &pbody));
     for (PetscInt p = 0; p < nc + nv + sk.ne; p++) pbody[p] = p < nc ? cellbody[p] : -1;
     PetscCall(PetscMalloc1(2 * nent + 1, &lab));
