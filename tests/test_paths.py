@@ -6,10 +6,12 @@
    displacement and the contact pressure agree to 1e-9 of their maxima;
  - the condensed path's recovered displacement satisfies K u + C^T lambda = f
    to 1e-10 of |f| (printed under -contact_monitor);
- - 2 ranks: the condensed path runs there too (the rows coupled to the other
-   rank are the top separator of the METIS ordering), with the same steps,
-   active set and fields (to 1e-9) as one rank's full path, for both
-   orderings; its recovered displacement satisfies the u rows as well."""
+ - 2 ranks: the condensed path runs there too (every rank factors its own
+   rows; the rows coupled to a higher rank and the multipliers are the dense
+   interface), with the same steps, active set and fields (to 1e-9) as one
+   rank's full path, for both orderings; its recovered displacement
+   satisfies the u rows as well; 3 ranks (a rank with neighbours on both
+   sides) with the METIS ordering give the same."""
 import re
 import numpy as np
 from m2d import check, mesh, opts, read_h5, run, solve, sorted_fields, workdir
@@ -50,16 +52,16 @@ check(m is not None and float(m.group(1)) < 1e-10 * float(m.group(2)), "condense
 for name, base in cases:
     ref = solve("paths2_%s_ref" % name, base + ["-kkt_path", "full", "-kkt_ordering", "mumps", "-output_name", "sol", "-output_vtu", "0"])
     vr = sorted_fields(workdir("paths2_%s_ref" % name) + "/sol.h5")[0]
-    for order in ("metis", "mumps"):
-        tag = "paths2_%s_%s" % (name, order)
-        s = solve(tag, base + ["-kkt_path", "condensed", "-kkt_ordering", order, "-output_name", "sol", "-output_vtu", "0"], ranks=2)
+    for nr, order in ((2, "metis"), (2, "mumps"), (3, "metis")):
+        tag = "paths%d_%s_%s" % (nr, name, order)
+        s = solve(tag, base + ["-kkt_path", "condensed", "-kkt_ordering", order, "-output_name", "sol", "-output_vtu", "0"], ranks=nr)
         v = sorted_fields(workdir(tag) + "/sol.h5")[0]
-        check(s["kkt_path"] == "condensed" and s["ranks"] == 2, "%s 2 ranks/%s: ran the %s path on %d ranks" % (name, order, s["kkt_path"], s["ranks"]))
+        check(s["kkt_path"] == "condensed" and s["ranks"] == nr, "%s %d ranks/%s: ran the %s path on %d ranks" % (name, nr, order, s["kkt_path"], s["ranks"]))
         check(s["iterations"] == ref["iterations"] and s["active_nodes"] == ref["active_nodes"],
-              "%s 2 ranks/%s: %d steps, %d active (1 rank full: %d, %d)" % (name, order, s["iterations"], s["active_nodes"], ref["iterations"], ref["active_nodes"]))
+              "%s %d ranks/%s: %d steps, %d active (1 rank full: %d, %d)" % (name, nr, order, s["iterations"], s["active_nodes"], ref["iterations"], ref["active_nodes"]))
         du = np.abs(v["displacement"] - vr["displacement"]).max() / np.abs(vr["displacement"]).max()
         dp = np.abs(v["contact_pressure"] - vr["contact_pressure"]).max() / np.abs(vr["contact_pressure"]).max()
-        check(du < 1e-9 and dp < 1e-9, "%s 2 ranks/%s: displacement %.1e, pressure %.1e of the 1-rank full path" % (name, order, du, dp))
+        check(du < 1e-9 and dp < 1e-9, "%s %d ranks/%s: displacement %.1e, pressure %.1e of the 1-rank full path" % (name, nr, order, du, dp))
 rc, out, err = run(["-options_file", opts("hertz"), "-mesh", mesh("hertz_2"), "-contact_monitor", "-output_dir", workdir("paths_monitor2")], ranks=2)
 m = re.search(r"recovered u: \|K u \+ C\^T lambda - f\| = (\S+) \(\|f\| = (\S+)\)", out)
 check(m is not None and float(m.group(1)) < 1e-10 * float(m.group(2)), "condensed, 2 ranks: |K u + C^T lambda - f| = %s, |f| = %s" % (m.group(1), m.group(2)) if m else "condensed, 2 ranks: no recovered-u line in the monitor output")
