@@ -143,6 +143,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   Vec           f, u;
   KSP           ksp;
   PetscLogStage stage[ST_COUNT];
+  PetscLogEvent ev_asm[4]; /* assembly: preallocation, elements, Dirichlet, KKT */
   double        t[ST_COUNT + 1], tstart;
   PetscInt      ndir, *drows, nlc, its;
   PetscScalar  *dvals;
@@ -165,6 +166,10 @@ static PetscErrorCode Run(MPI_Comm comm)
     PetscCall(PetscLogStageRegister(name, &stage[k]));
     t[k] = 0;
   }
+  PetscCall(PetscLogEventRegister("M2dPrealloc", MAT_CLASSID, &ev_asm[0]));
+  PetscCall(PetscLogEventRegister("M2dElements", MAT_CLASSID, &ev_asm[1]));
+  PetscCall(PetscLogEventRegister("M2dDirichlet", MAT_CLASSID, &ev_asm[2]));
+  PetscCall(PetscLogEventRegister("M2dKKT", MAT_CLASSID, &ev_asm[3]));
   PetscCall(SceneReadOptions(comm, &s));
   if (s.help) { /* document the per-body options too, then stop */
     if (s.nbody == 0) {
@@ -202,15 +207,22 @@ static PetscErrorCode Run(MPI_Comm comm)
 
   PetscCall(PetscLogStagePush(stage[ST_ASSEMBLY]));
   t[ST_ASSEMBLY] = M2dWallTime();
+  PetscCall(PetscLogEventBegin(ev_asm[0], 0, 0, 0, 0));
   if (has_contact) PetscCall(MeshCreateMatrix(&m, contact.R.n, contact.R.ptr, contact.R.col, &K));
   else PetscCall(MeshCreateMatrix(&m, 0, NULL, NULL, &K));
+  PetscCall(PetscLogEventEnd(ev_asm[0], 0, 0, 0, 0));
   PetscCall(DMCreateGlobalVector(m.dm, &f));
   PetscCall(VecDuplicate(f, &u));
   PetscCall(PetscObjectSetName((PetscObject)u, "displacement"));
+  PetscCall(PetscLogEventBegin(ev_asm[1], 0, 0, 0, 0));
   PetscCall(ElasticityAssemble(&m, &s, K, f));
+  PetscCall(PetscLogEventEnd(ev_asm[1], 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_asm[2], 0, 0, 0, 0));
   PetscCall(ElasticityDirichletRows(&m, &s, &ndir, &drows, &dvals));
   PetscCall(CheckRigidModes(&m, &s, has_contact ? &contact : NULL, ndir, drows));
   PetscCall(ElasticityApplyDirichlet(K, f, u, ndir, drows, dvals));
+  PetscCall(PetscLogEventEnd(ev_asm[2], 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ev_asm[3], 0, 0, 0, 0));
   if (has_contact) {
     if (s.unilateral && s.condensed) {
       /* the fast path factors K + g C^T C (monolithic) once; what it cannot serve goes the full way */
@@ -227,6 +239,7 @@ static PetscErrorCode Run(MPI_Comm comm)
     PetscCall(VecDuplicate(kkt.r, &lam));
     PetscCall(VecDuplicate(kkt.r, &active));
   }
+  PetscCall(PetscLogEventEnd(ev_asm[3], 0, 0, 0, 0));
   PetscCall(PetscFree2(drows, dvals));
   t[ST_ASSEMBLY] = M2dWallTime() - t[ST_ASSEMBLY];
   PetscCall(PetscLogStagePop());
