@@ -254,7 +254,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   {
     const char *const ords[] = {"mumps", "metis"}; /* order of M2dOrdering */
     PetscInt          k      = M2D_ORDERING_METIS;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering handed to MUMPS: metis (libmetis nested dissection, multipliers last; condensed path on any number of ranks - each rank orders its own rows below the separator of the rows coupled to another rank -, full path on one rank) or mumps (MUMPS' own choice, -mat_mumps_icntl_7; AMD whenever a Schur complement is asked)", ords, 2, &k));
+    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering handed to MUMPS: metis (libmetis nested dissection, multipliers last; condensed path on any number of ranks - each rank orders its own interior, the interface (its rows coupled to a higher rank, the multipliers) last -, full path on one rank) or mumps (MUMPS' own choice, -mat_mumps_icntl_7; AMD whenever a Schur complement is asked)", ords, 2, &k));
     s->kkt_ordering = (M2dOrdering)k;
   }
   s->kkt_ldlt = PETSC_TRUE;
