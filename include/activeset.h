@@ -26,6 +26,8 @@ typedef struct {
   PetscBool vi;
   PetscBool condensed;   /* the fast path was used */
   PetscReal factor_time; /* its one factorization (seconds) */
+  PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
+  PetscInt  interface_unknowns;               /* separator rows + multipliers */
 } ActiveSetInfo;
 
 /* Solve; u and lam get the solution, active (layout of lam) the final set. */

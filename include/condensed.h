@@ -63,6 +63,7 @@ typedef struct {
   VecScatter   toall;
   Vec          w;          /* w = C K_g^-1 f */
   PetscLogDouble factor_time;
+  PetscLogDouble flops_sum, flops_max; /* MUMPS factorization flops (RINFO(3)) over the ranks: sum, largest share */
 } Condensed;
 
 /* kkt must have been created with augmentation (kkt->gamma > 0) and aij */

@@ -437,6 +437,9 @@ PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *k
     PetscCall(PCShellSetApply(pc, DensePCApply));
     PetscCall(PCShellSetName(pc, "dense LU of the reduced Jacobian (LAPACK, every rank)"));
     info->factor_time = x.cond->factor_time;
+    info->factor_flops       = x.cond->flops_sum;
+    info->factor_flops_max   = x.cond->flops_max;
+    info->interface_unknowns = x.cond->ns + x.cond->N;
   } else PetscCall(M2dOrderingSetupKSP(ksp, s->kkt_ordering, NULL));
   PetscCall(VecDuplicate(kkt->x, &z));
   PetscCall(VecDuplicate(kkt->x, &F));

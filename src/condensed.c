@@ -479,6 +479,11 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   PetscCall(PetscFree2(rc, displ));
   PetscCall(PetscFree3(lamall, lamsorted, lamperm));
   cs->factor_time = MPI_Wtime() - t0;
+  {
+    double fl = mu ? (double)mu->id.RINFO(3) : 0.0;
+    PetscCallMPI(MPI_Allreduce(&fl, &cs->flops_sum, 1, MPI_DOUBLE, MPI_SUM, comm));
+    PetscCallMPI(MPI_Allreduce(&fl, &cs->flops_max, 1, MPI_DOUBLE, MPI_MAX, comm));
+  }
 
   PetscCall(PetscMalloc3(nI + ng + 1, &cs->b, ng + 1, &cs->red, G + 1, &cs->g));
   PetscCall(VecDuplicate(kkt->b, &cs->rhs));

@@ -315,6 +315,11 @@ static PetscErrorCode Run(MPI_Comm comm)
     }
     if (s.unilateral) SummaryReal(sum, "", "contact_c", asinfo.c);
     if (s.unilateral) SummaryString(sum, "", "kkt_path", asinfo.condensed ? "condensed" : "full");
+    if (s.unilateral && asinfo.condensed) {
+      SummaryReal(sum, "", "factor_flops", asinfo.factor_flops);
+      SummaryReal(sum, "", "factor_flops_max_rank", asinfo.factor_flops_max);
+      SummaryInt(sum, "", "interface_unknowns", asinfo.interface_unknowns);
+    }
     if (s.hertz) {
       HertzResult h;
       PetscCall(ContactHertz(&contact, &s, &h));

@@ -322,6 +322,9 @@ def measure(out, scene, level, cfg, timeout, idx, total):
         "t_fact": fs[1] + fn[1], "n_fact_sym": fs[0], "n_fact_num": fn[0], "t_order": t_order,
         "t_matsolve": ms[1], "n_matsolve": ms[0],
         "t_dense_lu": ev.get("MatLUFactor", (0, 0.0))[1],
+        "factor_flops": s.get("factor_flops", float("nan")),           # condensed path: MUMPS RINFO(3), all ranks
+        "factor_flops_max_rank": s.get("factor_flops_max_rank", float("nan")),
+        "interface_unknowns": s.get("interface_unknowns", -1),
         "wall_s": r["wall"], "cpu_s": r["cpu_s"], "peak_mb": r["peak_mb"], "peak_mb_sum": r["peak_mb_sum"],
         "maxrss_wait4_mb": r["maxrss_wait4_mb"], "load1": r["load1"],
         "contact_force": s.get("contact_force"),
@@ -444,6 +447,11 @@ def report_speedup(rows, scene):
             ra, rb = find(rows, scene, lv, a), find(rows, scene, lv, b)
             print("    %-18s L%-2s " % (lab, lv) + "  ".join(
                 "%s %.3g/%.3g=%.2f" % (n, f(ra), f(rb), f(ra) / f(rb) if f(rb) > 0 else float("nan")) for n, f in stages))
+            fl, fm = rb.get("factor_flops", float("nan")), rb.get("factor_flops_max_rank", float("nan"))
+            if fl == fl and fm == fm and fl > 0:   # the 2-rank factorization's balance (1.00 = even)
+                print("    %-18s L%-2s 2 ranks: MUMPS flops %.3g (1 rank %.3g), largest rank %.3g = %.2f x the mean; "
+                      "interface %d unknowns" % (lab, lv, fl, ra.get("factor_flops", float("nan")), fm,
+                                                 fm / (fl / rb["ranks"]), rb.get("interface_unknowns", -1)))
 
 
 def report_stages(rows, scene):
@@ -816,6 +824,7 @@ def main():
             "reference", "config", "iterations", "active_nodes", "contact_nodes",
             "t_mesh", "t_contact", "t_assembly", "t_solve", "t_output", "t_total",
             "t_fact", "n_fact_sym", "n_fact_num", "t_matsolve", "n_matsolve", "t_dense_lu",
+            "factor_flops", "factor_flops_max_rank", "interface_unknowns",
             "wall_s", "cpu_s", "peak_mb", "peak_mb_sum", "maxrss_wait4_mb", "load1",
             "pressure_l2_rel", "peak_pressure", "half_width", "half_width_err", "peak_err",
             "contact_force", "force_err", "solve_over_ref", "total_over_ref"]
