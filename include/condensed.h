@@ -58,7 +58,6 @@ typedef struct {
   PetscScalar *S;          /* rows lo..lo+n-1 of S0, column-major, n x N */
   PetscScalar *lu;         /* the reduced Jacobian's LU (N x N, every rank) */
   PetscBLASInt *piv;
-  Vec          rhs;        /* layout of the KKT matrix */
   Vec          all;        /* a multiplier vector, whole, on every rank */
   VecScatter   toall;
   Vec          w;          /* w = C K_g^-1 f */

@@ -66,107 +66,47 @@ static PetscInt Find(PetscInt key, PetscInt n, const PetscInt a[])
   return lo < n && a[lo] == key ? lo : -1;
 }
 
-/* where the rows of the KKT matrix go */
-typedef struct {
-  PetscInt        rs, re, ns, N;
-  const PetscInt *lidx;      /* own rows: interior index, or -1 - interface index */
-  const PetscInt *sepall;    /* global rows of the separator, sorted */
-  const PetscInt *lamsorted; /* global rows of the multipliers, sorted ... */
-  const PetscInt *lamperm;   /* ... and their positions in kkt->r */
-} RowMap;
-
+/* The rows of [K_g C^T; C Z], read from the nest's blocks (no assembled copy
+ * on this path). This rank's rows: its u rows (local 0..nu-1), then its
+ * multiplier rows. A column comes back as its class: the interior index of
+ * an own row (>= 0), -1 - its interface index, or M2D_OTHER_INTERIOR (an
+ * interior row of another rank). */
 #define M2D_OTHER_INTERIOR PETSC_MIN_INT
-
-/* a global column: its interior index (own rows), -1 - its interface index,
- * or M2D_OTHER_INTERIOR (an interior row of another rank) */
-static PetscInt ColClass(const RowMap *rm, PetscInt c)
-{
-  PetscInt k;
-  if (c >= rm->rs && c < rm->re) return rm->lidx[c - rm->rs];
-  if ((k = Find(c, rm->ns, rm->sepall)) >= 0) return -1 - k;
-  if ((k = Find(c, rm->N, rm->lamsorted)) >= 0) return -1 - (rm->ns + rm->lamperm[k]);
-  return M2D_OTHER_INTERIOR;
-}
-
-/* The rows of the monolithic KKT matrix [K_g C^T; C Z], read from the
- * nest's blocks: no assembled copy is made on this path. Numbering (that of
- * kkt->isu, kkt->isl): rank by rank, its u rows, then its multiplier rows. */
 typedef struct {
   Mat             blk[4]; /* (u,u) (u,l) (l,u) (l,l) */
-  const PetscInt *ur, *lr; /* ownership ranges: u rows, multiplier rows */
-  PetscMPIInt     size, rank;
-  PetscInt        nu, nl, cap, *cols;
+  PetscInt        u0, u1, l0, nu, nl;
+  PetscInt        ns;     /* separator rows (all ranks) ... */
+  const PetscInt *sepall; /* ... their u rows, sorted */
+  const PetscInt *lidx;   /* own rows: interior index, or -1 - interface index */
+  PetscInt        cap, *cols;
   PetscScalar    *vals;
 } KKTRows;
 
-static PetscInt Owner(const PetscInt r[], PetscMPIInt size, PetscInt j)
-{
-  PetscInt lo = 0, hi = size - 1;
-  while (lo < hi) {
-    PetscInt mid = (lo + hi + 1) / 2;
-    if (r[mid] <= j) lo = mid;
-    else hi = mid - 1;
-  }
-  return lo;
-}
-
-static PetscErrorCode KKTRowsCreate(KKT *kkt, KKTRows *kr)
-{
-  MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->Kblk);
-  const PetscInt *iu, *il;
-  PetscInt        nu, nl;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(kr, sizeof(*kr)));
-  kr->blk[0] = kkt->Kblk;
-  kr->blk[1] = kkt->Ct;
-  kr->blk[2] = kkt->CA;
-  kr->blk[3] = kkt->Z;
-  PetscCallMPI(MPI_Comm_size(comm, &kr->size));
-  PetscCallMPI(MPI_Comm_rank(comm, &kr->rank));
-  PetscCall(MatGetOwnershipRanges(kkt->Kblk, &kr->ur));
-  PetscCall(MatGetOwnershipRanges(kkt->CA, &kr->lr));
-  kr->nu = kr->ur[kr->rank + 1] - kr->ur[kr->rank];
-  kr->nl = kr->lr[kr->rank + 1] - kr->lr[kr->rank];
-  /* the nest's own index sets say the same */
-  PetscCall(ISGetLocalSize(kkt->isu, &nu));
-  PetscCall(ISGetLocalSize(kkt->isl, &nl));
-  PetscCall(ISGetIndices(kkt->isu, &iu));
-  PetscCall(ISGetIndices(kkt->isl, &il));
-  PetscCheck(nu == kr->nu && nl == kr->nl && (!nu || iu[0] == kr->ur[kr->rank] + kr->lr[kr->rank]) && (!nl || il[0] == kr->ur[kr->rank + 1] + kr->lr[kr->rank]), PETSC_COMM_SELF, PETSC_ERR_PLIB, "KKT numbering differs from the nest's index sets");
-  PetscCall(ISRestoreIndices(kkt->isu, &iu));
-  PetscCall(ISRestoreIndices(kkt->isl, &il));
-  kr->cap = 64;
-  PetscCall(PetscMalloc2(kr->cap, &kr->cols, kr->cap, &kr->vals));
-  PetscFunctionReturn(0);
-}
-
-/* local row i (u rows first): columns (KKT numbering) and values in kr->cols, kr->vals */
 static PetscErrorCode KKTRowsGet(KKTRows *kr, PetscInt i, PetscInt *nc)
 {
-  PetscInt lam = i >= kr->nu, row = lam ? kr->lr[kr->rank] + i - kr->nu : kr->ur[kr->rank] + i, n = 0;
+  PetscInt lam = i >= kr->nu, row = lam ? kr->l0 + i - kr->nu : kr->u0 + i, n = 0;
 
   PetscFunctionBeginUser;
   for (int b = 0; b < 2; b++) {
     Mat                M = kr->blk[2 * lam + b];
-    const PetscInt    *r = b == 0 ? kr->ur : kr->lr, *o = b == 0 ? kr->lr : kr->ur;
-    PetscInt           m, p = kr->rank;
+    PetscInt           m;
     const PetscInt    *c;
     const PetscScalar *v;
     PetscCall(MatGetRow(M, row, &m, &c, &v));
-    if (n + m > kr->cap) {
-      PetscCall(PetscFree2(kr->cols, kr->vals));
+    if (n + m > kr->cap) { /* grow, then read this block again (MatRestoreRow zeroes m) */
       kr->cap = 2 * (n + m);
-      PetscCall(PetscMalloc2(kr->cap, &kr->cols, kr->cap, &kr->vals));
-      n = 0; /* start the row again */
-      b = -1;
       PetscCall(MatRestoreRow(M, row, &m, &c, &v));
+      PetscCall(PetscRealloc(kr->cap * sizeof(PetscInt), &kr->cols));
+      PetscCall(PetscRealloc(kr->cap * sizeof(PetscScalar), &kr->vals));
+      b--;
       continue;
     }
-    for (PetscInt k = 0; k < m; k++) { /* u column j of rank p: j + lr[p]; multiplier k: k + ur[p + 1] */
-      if (c[k] < r[p] || c[k] >= r[p + 1]) p = (PetscInt)Owner(r, kr->size, c[k]);
-      kr->cols[n]   = c[k] + (b == 0 ? o[p] : o[p + 1]);
-      kr->vals[n++] = v[k];
+    for (PetscInt k = 0; k < m; k++, n++) {
+      PetscInt j = c[k], s;
+      if (b == 1) kr->cols[n] = -1 - (kr->ns + j); /* a multiplier */
+      else if (j >= kr->u0 && j < kr->u1) kr->cols[n] = kr->lidx[j - kr->u0];
+      else kr->cols[n] = (s = Find(j, kr->ns, kr->sepall)) >= 0 ? -1 - s : M2D_OTHER_INTERIOR;
+      kr->vals[n] = v[k];
     }
     PetscCall(MatRestoreRow(M, row, &m, &c, &v));
   }
@@ -174,56 +114,69 @@ static PetscErrorCode KKTRowsGet(KKTRows *kr, PetscInt i, PetscInt *nc)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode KKTRowsDestroy(KKTRows *kr)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree2(kr->cols, kr->vals));
-  PetscFunctionReturn(0);
-}
-
 /* The interface: the multipliers, and on several ranks the separator, the
  * u rows of each rank coupled to a u row of a higher rank (the rows of the
  * other ranks' interiors then couple only to their own interior and to the
  * interface). Numbering: the separator rank by rank, then the multipliers in
- * the order of kkt->r. */
-static PetscErrorCode Classify(Condensed *cs, const KKTRows *kr, PetscInt **sepall)
+ * the order of kkt->r. Sets kr (rows and classes) and cs->ns, nI, lidx. */
+static PetscErrorCode Classify(Condensed *cs, KKTRows *kr, PetscInt **sepall)
 {
-  MPI_Comm    comm = PetscObjectComm((PetscObject)cs->kkt->Kblk);
-  PetscMPIInt nn, *rc, *displ;
-  PetscInt    nsep = 0, *sep, *lidx, ks = 0, sepoff, u0 = kr->ur[kr->rank], u1 = kr->ur[kr->rank + 1], n = kr->nu + kr->nl;
+  KKT            *kkt  = cs->kkt;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->Kblk);
+  PetscMPIInt     size, rank, nn, *rc, *displ;
+  const PetscInt *ur;
+  PetscInt        nsep = 0, *sep, *lidx, ks = 0, sepoff, n;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(kr, sizeof(*kr)));
+  kr->blk[0] = kkt->Kblk;
+  kr->blk[1] = kkt->Ct;
+  kr->blk[2] = kkt->CA;
+  kr->blk[3] = kkt->Z;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(MatGetOwnershipRanges(kkt->Kblk, &ur));
+  kr->u0 = ur[rank];
+  kr->u1 = ur[rank + 1];
+  kr->nu = kr->u1 - kr->u0;
+  kr->l0 = cs->lo;
+  kr->nl = cs->n;
+  n      = kr->nu + kr->nl;
   PetscCall(PetscMalloc1(kr->nu + 1, &sep));
-  PetscCall(PetscMalloc2(kr->size, &rc, kr->size, &displ));
-  for (PetscInt i = 0; i < kr->nu && kr->size > 1; i++) {
+  PetscCall(PetscMalloc2(size, &rc, size, &displ));
+  for (PetscInt i = 0; i < kr->nu && size > 1; i++) {
     PetscInt        nc;
     const PetscInt *cols;
     PetscBool       s = PETSC_FALSE;
-    PetscCall(MatGetRow(kr->blk[0], u0 + i, &nc, &cols, NULL));
-    for (PetscInt k = nc - 1; k >= 0 && !s; k--) s = (PetscBool)(cols[k] >= u1); /* a u row of a higher rank */
-    PetscCall(MatRestoreRow(kr->blk[0], u0 + i, &nc, &cols, NULL));
-    if (s) sep[nsep++] = i;
+    PetscCall(MatGetRow(kkt->Kblk, kr->u0 + i, &nc, &cols, NULL));
+    for (PetscInt k = nc - 1; k >= 0 && !s; k--) s = (PetscBool)(cols[k] >= kr->u1); /* a u row of a higher rank */
+    PetscCall(MatRestoreRow(kkt->Kblk, kr->u0 + i, &nc, &cols, NULL));
+    if (s) sep[nsep++] = kr->u0 + i;
   }
   PetscCall(PetscMPIIntCast(nsep, &nn));
   PetscCallMPI(MPI_Allgather(&nn, 1, MPI_INT, rc, 1, MPI_INT, comm));
   displ[0] = 0;
-  for (PetscMPIInt p = 1; p < kr->size; p++) displ[p] = displ[p - 1] + rc[p - 1];
-  sepoff = displ[kr->rank];
-  cs->ns = displ[kr->size - 1] + rc[kr->size - 1];
+  for (PetscMPIInt p = 1; p < size; p++) displ[p] = displ[p - 1] + rc[p - 1];
+  sepoff = displ[rank];
+  cs->ns = displ[size - 1] + rc[size - 1];
   PetscCall(PetscMalloc1(n + 1, &lidx));
   cs->nI = 0;
   for (PetscInt i = 0; i < n; i++) {
-    if (i >= kr->nu) lidx[i] = -1 - (cs->ns + kr->lr[kr->rank] + i - kr->nu);
-    else if (ks < nsep && sep[ks] == i) lidx[i] = -1 - (sepoff + ks++);
+    if (i >= kr->nu) lidx[i] = -1 - (cs->ns + kr->l0 + i - kr->nu);
+    else if (ks < nsep && sep[ks] == kr->u0 + i) lidx[i] = -1 - (sepoff + ks++);
     else lidx[i] = cs->nI++;
   }
   cs->lidx = lidx;
-  /* the separator's rows in the KKT numbering, on every rank */
-  for (PetscInt k = 0; k < nsep; k++) sep[k] += u0 + kr->lr[kr->rank];
-  PetscCall(PetscMalloc1(cs->ns + 1, sepall));
+  PetscCall(PetscMalloc1(cs->ns + 1, sepall)); /* the separator's u rows, on every rank */
   PetscCallMPI(MPI_Allgatherv(sep, nn, MPIU_INT, *sepall, rc, displ, MPIU_INT, comm));
   PetscCall(PetscFree(sep));
   PetscCall(PetscFree2(rc, displ));
+  kr->ns     = cs->ns;
+  kr->sepall = *sepall;
+  kr->lidx   = lidx;
+  kr->cap    = 64;
+  PetscCall(PetscMalloc1(kr->cap, &kr->cols));
+  PetscCall(PetscMalloc1(kr->cap, &kr->vals));
   PetscFunctionReturn(0);
 }
 
@@ -231,14 +184,13 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
 {
   Mat             A    = kkt->Kblk; /* for the communicator and the log */
   MPI_Comm        comm = PetscObjectComm((PetscObject)A);
-  PetscMPIInt     size, rank, nn, *rc = NULL, *displ = NULL;
+  PetscMPIInt     size, rank;
   M2dMumps       *mu = NULL;
-  PetscInt        rs, re, n, G, nI, ng = 0, *lamall, *lamsorted, *lamperm, *sepall = NULL, *gloc, nnz = 0, k = 0;
-  const PetscInt *il;
+  PetscInt        n, G, nI, ng = 0, *sepall = NULL, *gloc, nnz = 0, k = 0;
+  const PetscInt *lr;
   MUMPS_INT      *irn = NULL, *jcn = NULL, *perm = NULL, *listvar = NULL;
   PetscScalar    *a = NULL, *Sp = NULL, *SG;
   PetscLogDouble  t0;
-  RowMap          rm;
   KKTRows         kr;
   M2dOrdering     ord = s->kkt_ordering;
   int             sym = s->kkt_ldlt ? 2 : 0; /* LDL^T of the symmetric matrix, or LU */
@@ -252,35 +204,18 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
 
   t0 = MPI_Wtime();
-  /* the multipliers: global rows of A, in the order of kkt->r (rank by rank) */
+  /* the multipliers, in the order of kkt->r (rank by rank) */
   PetscCall(VecGetLocalSize(kkt->r, &cs->n));
   PetscCall(VecGetSize(kkt->r, &cs->N));
   PetscCall(VecGetOwnershipRange(kkt->r, &cs->lo, NULL));
-  PetscCall(PetscMalloc3(cs->N + 1, &lamall, cs->N + 1, &lamsorted, cs->N + 1, &lamperm));
-  PetscCall(PetscMalloc2(size, &rc, size, &displ));
-  PetscCall(PetscMPIIntCast(cs->n, &nn));
-  PetscCallMPI(MPI_Allgather(&nn, 1, MPI_INT, rc, 1, MPI_INT, comm));
-  displ[0] = 0;
-  for (PetscMPIInt p = 1; p < size; p++) displ[p] = displ[p - 1] + rc[p - 1];
-  PetscCall(ISGetIndices(kkt->isl, &il));
-  PetscCallMPI(MPI_Allgatherv(il, nn, MPIU_INT, lamall, rc, displ, MPIU_INT, comm));
-  PetscCall(ISRestoreIndices(kkt->isl, &il));
-  for (PetscInt j = 0; j < cs->N; j++) {
-    lamsorted[j] = lamall[j];
-    lamperm[j]   = j;
-  }
-  PetscCall(PetscSortIntWithArray(cs->N, lamsorted, lamperm));
+  PetscCall(VecGetOwnershipRanges(kkt->r, &lr));
 
   /* interior rows and the interface; METIS orders the interior */
   PetscCall(PetscLogEventBegin(ev_order, A, 0, 0, 0));
-  PetscCall(KKTRowsCreate(kkt, &kr));
   PetscCall(Classify(cs, &kr, &sepall));
   n  = kr.nu + kr.nl;
-  rs = kr.ur[rank] + kr.lr[rank];
-  re = rs + n;
   nI = cs->nI;
   G  = cs->ns + cs->N;
-  rm = (RowMap){rs, re, cs->ns, cs->N, cs->lidx, sepall, lamsorted, lamperm};
   if (ord == M2D_ORDERING_METIS && nI > 0) {
     Mat             Ad = A;
     IS              last, posis;
@@ -319,8 +254,8 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
       cols = kr.cols;
       v    = kr.vals;
       for (PetscInt j = 0; j < nc; j++) {
-        PetscInt cl = ColClass(&rm, cols[j]);
-        PetscCheck(cl != M2D_OTHER_INTERIOR, PETSC_COMM_SELF, PETSC_ERR_PLIB, "row %" PetscInt_FMT " couples to another rank's interior row %" PetscInt_FMT, rs + i, cols[j]);
+        PetscInt cl = cols[j];
+        PetscCheck(cl != M2D_OTHER_INTERIOR, PETSC_COMM_SELF, PETSC_ERR_PLIB, "local row %" PetscInt_FMT " couples to another rank's interior row", i);
         if (cl >= 0) {
           if (sym && cl < li) continue; /* symmetric: the upper triangle */
           if (pass == 1) {
@@ -426,7 +361,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
     if (li >= 0) continue;
     PetscCall(KKTRowsGet(&kr, i, &nc));
     for (PetscInt j = 0; j < nc; j++) {
-      PetscInt cl = ColClass(&rm, kr.cols[j]);
+      PetscInt cl = kr.cols[j];
       if (cl < 0 && cl != M2D_OTHER_INTERIOR) SG[(-1 - li) + (-1 - cl) * G] += kr.vals[j];
     }
   }
@@ -463,8 +398,8 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
     if (cs->n > 0) PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "N", "N", &bs, &bn, &one, cs->L, &bs, cs->X + cs->lo * cs->ns, &bs));
     PetscCall(PetscMalloc2(size, &rcx, size, &dx));
     for (PetscMPIInt p = 0; p < size; p++) {
-      PetscCall(PetscMPIIntCast(rc[p] * cs->ns, &rcx[p]));
-      PetscCall(PetscMPIIntCast(displ[p] * cs->ns, &dx[p]));
+      PetscCall(PetscMPIIntCast((lr[p + 1] - lr[p]) * cs->ns, &rcx[p]));
+      PetscCall(PetscMPIIntCast(lr[p] * cs->ns, &dx[p]));
     }
     PetscCallMPI(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, cs->X, rcx, dx, MPIU_SCALAR, comm));
     PetscCall(PetscFree2(rcx, dx));
@@ -475,9 +410,8 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   PetscCall(PetscLogEventEnd(ev_iface, A, 0, 0, 0));
   PetscCall(PetscFree(gloc));
   PetscCall(PetscFree(sepall));
-  PetscCall(KKTRowsDestroy(&kr));
-  PetscCall(PetscFree2(rc, displ));
-  PetscCall(PetscFree3(lamall, lamsorted, lamperm));
+  PetscCall(PetscFree(kr.cols));
+  PetscCall(PetscFree(kr.vals));
   cs->factor_time = MPI_Wtime() - t0;
   {
     double fl = mu ? (double)mu->id.RINFO(3) : 0.0;
@@ -486,7 +420,6 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
   }
 
   PetscCall(PetscMalloc3(nI + ng + 1, &cs->b, ng + 1, &cs->red, G + 1, &cs->g));
-  PetscCall(VecDuplicate(kkt->b, &cs->rhs));
   PetscCall(VecScatterCreateToAll(kkt->r, &cs->toall, &cs->all));
   PetscCall(PetscMalloc2(cs->N * cs->N + 1, &cs->lu, cs->N + 1, &cs->piv));
   PetscFunctionReturn(0);
@@ -505,8 +438,8 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
   M2dMumps          *mu   = cs->mumps;
   MPI_Comm           comm = PetscObjectComm((PetscObject)cs->kkt->Kblk);
   PetscInt           n, nI = cs->nI, ng = cs->ng, ns = cs->ns, G = ns + cs->N;
-  PetscScalar       *r, *g = cs->g, one = 1.0, mone = -1.0;
-  const PetscScalar *nu;
+  PetscScalar       *g = cs->g, one = 1.0, mone = -1.0;
+  const PetscScalar *nu, *f = NULL;
   PetscBLASInt       bs, bN, ione = 1;
   PetscMPIInt        cnt;
 
@@ -514,13 +447,11 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
   PetscCall(PetscLogEventBegin(ev_solve, 0, 0, 0, 0));
   PetscCall(PetscBLASIntCast(ns, &bs));
   PetscCall(PetscBLASIntCast(cs->N, &bN));
-  PetscCall(VecGetLocalSize(cs->rhs, &n));
+  PetscCall(VecGetLocalSize(cs->kkt->f, &n)); /* the u rows: lidx[0..n) */
   if (phase == 1) {
-    PetscCall(VecZeroEntries(cs->rhs));
-    PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_FORWARD, cs->kkt->f));
-    PetscCall(VecGetArray(cs->rhs, &r));
+    PetscCall(VecGetArrayRead(cs->kkt->f, &f));
     for (PetscInt i = 0; i < n; i++)
-      if (cs->lidx[i] >= 0) cs->b[cs->lidx[i]] = r[i];
+      if (cs->lidx[i] >= 0) cs->b[cs->lidx[i]] = f[i];
     for (PetscInt k = 0; k < ng; k++) cs->b[nI + k] = 0.0;
   } else {
     PetscCall(VecScatterBegin(cs->toall, lam, cs->all, INSERT_VALUES, SCATTER_FORWARD));
@@ -534,7 +465,6 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
     for (PetscInt j = 0; j < cs->N; j++) g[ns + j] = nu[j];
     PetscCall(VecRestoreArrayRead(cs->all, &nu));
     for (PetscInt k = 0; k < ng; k++) cs->red[k] = g[cs->glist[k]];
-    PetscCall(VecGetArray(cs->rhs, &r));
   }
   if (mu) {
     mu->id.rhs       = cs->b;
@@ -554,7 +484,8 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
     for (PetscInt k = 0; k < G; k++) g[k] = 0.0;
     for (PetscInt k = 0; k < ng; k++) g[cs->glist[k]] += cs->red[k];
     for (PetscInt i = 0; i < n; i++) /* f on the own separator rows (0 on the multiplier rows) */
-      if (cs->lidx[i] < 0) g[-1 - cs->lidx[i]] += r[i];
+      if (cs->lidx[i] < 0) g[-1 - cs->lidx[i]] += f[i];
+    PetscCall(VecRestoreArrayRead(cs->kkt->f, &f));
     PetscCall(PetscMPIIntCast(G, &cnt));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, g, cnt, MPIU_SCALAR, MPIU_SUM, comm));
     if (ns > 0) PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "N", "N", &bs, &ione, &one, cs->L, &bs, g, &bs)); /* z */
@@ -567,11 +498,11 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
       lv[i] = t;
     }
     PetscCall(VecRestoreArray(lam, &lv));
-    PetscCall(VecRestoreArray(cs->rhs, &r));
   } else {
-    for (PetscInt i = 0; i < n; i++) r[i] = cs->lidx[i] >= 0 ? cs->b[cs->lidx[i]] : g[-1 - cs->lidx[i]];
-    PetscCall(VecRestoreArray(cs->rhs, &r));
-    PetscCall(VecISCopy(cs->rhs, cs->kkt->isu, SCATTER_REVERSE, u));
+    PetscScalar *ua;
+    PetscCall(VecGetArrayWrite(u, &ua));
+    for (PetscInt i = 0; i < n; i++) ua[i] = cs->lidx[i] >= 0 ? cs->b[cs->lidx[i]] : g[-1 - cs->lidx[i]];
+    PetscCall(VecRestoreArrayWrite(u, &ua));
   }
   PetscCall(PetscLogEventEnd(ev_solve, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -718,7 +649,6 @@ PetscErrorCode CondensedDestroy(Condensed *cs)
   PetscCall(PetscFree2(cs->L, cs->X));
   PetscCall(PetscFree3(cs->b, cs->red, cs->g));
   PetscCall(PetscFree2(cs->lu, cs->piv));
-  PetscCall(VecDestroy(&cs->rhs));
   PetscCall(VecDestroy(&cs->all));
   PetscCall(VecScatterDestroy(&cs->toall));
   PetscFunctionReturn(0);
