@@ -51,7 +51,7 @@ typedef struct {
   PetscInt     n, N, lo;   /* multipliers: local, global, first owned (layout of kkt->r) */
   PetscInt     ns;         /* separator rows (all ranks); the interface has ns + N unknowns */
   PetscInt     nI, ng;     /* this rank: interior rows, interface unknowns its interior couples to */
-  PetscInt    *lidx;       /* own rows of A: interior index, or -1 - interface index */
+  PetscInt    *lidx;       /* own u rows, then own multiplier rows: interior index, or -1 - interface index */
   PetscInt    *glist;      /* interface index of each of this rank's ng interface unknowns */
   PetscScalar *L, *X;      /* L L^T = S_ss (ns x ns), X = L^-1 S_sl (ns x N), every rank */
   PetscScalar *b, *red, *g; /* this rank's MUMPS right-hand side (nI + ng) and reduced one (ng); interface vector (ns + N) */

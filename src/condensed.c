@@ -54,18 +54,6 @@ static PetscErrorCode MumpsCall(MPI_Comm comm, M2dMumps *mu, int job, const char
   SETERRQ(comm, PETSC_ERR_LIB, "MUMPS %s failed: INFOG(1) = %d, INFOG(2) = %d%s", what, worst, worst2, worst == -9 ? " (raise -mat_mumps_icntl_14)" : "");
 }
 
-/* position of key in the sorted a[0..n), or -1 */
-static PetscInt Find(PetscInt key, PetscInt n, const PetscInt a[])
-{
-  PetscInt lo = 0, hi = n;
-  while (lo < hi) {
-    PetscInt mid = lo + (hi - lo) / 2;
-    if (a[mid] < key) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo < n && a[lo] == key ? lo : -1;
-}
-
 /* The rows of [K_g C^T; C Z], read from the nest's blocks (no assembled copy
  * on this path). This rank's rows: its u rows (local 0..nu-1), then its
  * multiplier rows. A column comes back as its class: the interior index of
@@ -105,7 +93,10 @@ static PetscErrorCode KKTRowsGet(KKTRows *kr, PetscInt i, PetscInt *nc)
       PetscInt j = c[k], s;
       if (b == 1) kr->cols[n] = -1 - (kr->ns + j); /* a multiplier */
       else if (j >= kr->u0 && j < kr->u1) kr->cols[n] = kr->lidx[j - kr->u0];
-      else kr->cols[n] = (s = Find(j, kr->ns, kr->sepall)) >= 0 ? -1 - s : M2D_OTHER_INTERIOR;
+      else {
+        PetscCall(PetscFindInt(j, kr->ns, kr->sepall, &s));
+        kr->cols[n] = s >= 0 ? -1 - s : M2D_OTHER_INTERIOR;
+      }
       kr->vals[n] = v[k];
     }
     PetscCall(MatRestoreRow(M, row, &m, &c, &v));
