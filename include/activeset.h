@@ -28,10 +28,10 @@ typedef struct {
   PetscReal factor_time; /* its one factorization (seconds) */
   PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
   PetscInt  interface_unknowns;               /* separator rows + multipliers */
-} ActiveSetInfo;
+} M2dActiveSetInfo;
 
 /* Solve; u and lam get the solution, active (layout of lam) the final set. */
-PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *kkt, Vec u, Vec lam, Vec active, ActiveSetInfo *info);
+PetscErrorCode ActiveSetSolve(const M2dScene *s, const M2dMesh *m, M2dContact *ct, M2dKKT *kkt, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info);
 /* default complementarity parameter */
-PetscReal      ActiveSetDefaultC(const Scene *s, const Contact *ct);
+PetscReal      ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct);
 #endif

@@ -46,7 +46,7 @@
 typedef struct M2dMumps M2dMumps;
 
 typedef struct {
-  KKT         *kkt;
+  M2dKKT         *kkt;
   M2dMumps    *mumps;      /* this rank's own sequential MUMPS, or NULL (no interior rows) */
   PetscInt     n, N, lo;   /* multipliers: local, global, first owned (layout of kkt->r) */
   PetscInt     ns;         /* separator rows (all ranks); the interface has ns + N unknowns */
@@ -63,21 +63,21 @@ typedef struct {
   Vec          w;          /* w = C K_g^-1 f */
   PetscLogDouble factor_time;
   PetscLogDouble flops_sum, flops_max; /* MUMPS factorization flops (RINFO(3)) over the ranks: sum, largest share */
-} Condensed;
+} M2dCondensed;
 
 /* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
-PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs);
+PetscErrorCode CondensedCreate(M2dKKT *kkt, const M2dScene *s, M2dCondensed *cs);
 /* w from MUMPS' condensation phase */
-PetscErrorCode CondensedReducedSetup(Condensed *cs);
+PetscErrorCode CondensedReducedSetup(M2dCondensed *cs);
 /* cu = C u(nu) = w + S0 nu (layout of kkt->r) */
-PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu);
+PetscErrorCode CondensedReducedGaps(M2dCondensed *cs, Vec nu, Vec cu);
 /* J = d/dnu of F = c h max(-lambda/c, C u - r): rows c h S0 (active) and
  * -h (I + g S0) (inactive); J dense (MATDENSE), layout of kkt->r */
-PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, PetscReal h, Mat J);
+PetscErrorCode CondensedReducedJacobian(M2dCondensed *cs, Vec active, PetscReal c, PetscReal h, Mat J);
 /* LU of the dense J on every rank; then x = J^-1 b (layout of kkt->r) */
-PetscErrorCode CondensedDenseFactor(Condensed *cs, Mat J);
-PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x);
+PetscErrorCode CondensedDenseFactor(M2dCondensed *cs, Mat J);
+PetscErrorCode CondensedDenseSolve(M2dCondensed *cs, Vec b, Vec x);
 /* u = u(nu), MUMPS' expansion phase */
-PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u);
-PetscErrorCode CondensedDestroy(Condensed *cs);
+PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u);
+PetscErrorCode CondensedDestroy(M2dCondensed *cs);
 #endif

@@ -6,19 +6,19 @@
 #include "mesh.h"
 
 typedef struct {
-  Surface     nm, m;
-  SegmentSet  seg;
-  ContactRows R;
+  M2dSurface     nm, m;
+  M2dSegmentSet  seg;
+  M2dContactRows R;
   PetscReal   reach;
   /* results, on every rank, one per multiplier */
   PetscReal  *pressure, *gap, *active;
   PetscReal   force[2]; /* total contact force on the non-mortar body */
   PetscReal   force_n;  /* integral of the contact pressure */
-} Contact;
+} M2dContact;
 
-PetscErrorCode ContactSetup(const Mesh *m, const Scene *s, Contact *c);
+PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c);
 /* active: final active set (layout of lam), NULL when every node is held closed */
-PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam, Vec active);
+PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active);
 
 typedef struct {
   PetscReal a, p0;           /* Hertz half-width and peak pressure */
@@ -26,12 +26,12 @@ typedef struct {
   PetscReal h_edge;          /* spacing of the non-mortar nodes there */
   PetscReal peak_pressure;   /* largest nodal contact pressure */
   PetscReal pressure_l2_rel; /* ||p_h - p||_L2(0, 1.5a) / ||p||_L2(0, 1.5a), p_h piecewise linear */
-} HertzResult;
+} M2dHertzResult;
 /* plane strain Hertz for a cylinder (radius R, load P per unit thickness) on a
  * half-space; the symmetry axis is x = 0 and contact is in the y direction */
-PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h);
+PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResult *h);
 /* a vector in the displacement layout: component 0 pressure, 1 gap (NaN off the interface) */
-PetscErrorCode ContactFillField(const Contact *c, Vec field);
-PetscErrorCode ContactWriteCSV(MPI_Comm comm, const Contact *c, const char *path);
-PetscErrorCode ContactDestroy(Contact *c);
+PetscErrorCode ContactFillField(const M2dContact *c, Vec field);
+PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path);
+PetscErrorCode ContactDestroy(M2dContact *c);
 #endif

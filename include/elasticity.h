@@ -10,7 +10,7 @@
 #include "scene.h"
 
 /* material matrix (3x3, row major) */
-void M2dMaterialMatrix(PetscReal E, PetscReal nu, PlaneMode plane, PetscReal D[9]);
+void M2dMaterialMatrix(PetscReal E, PetscReal nu, M2dPlane plane, PetscReal D[9]);
 /* shape function values and x,y-derivatives at (xi, eta); returns det J */
 PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal N[4], PetscReal dN[8]);
 /* element stiffness (8x8 row major, dofs [u0x u0y u1x ...]), 2x2 Gauss; with
@@ -19,22 +19,22 @@ void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, Pet
 /* area-averaged stress [sxx, syy, sxy] of the element (same split with sri) */
 void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, const PetscReal ue[8], PetscReal sig[3]);
 /* the lambda of D's split D = lam m m^T + rest (plane stress: 2 lam mu / (lam + 2 mu)) */
-PetscReal M2dLambda(PetscReal E, PetscReal nu, PlaneMode plane);
+PetscReal M2dLambda(PetscReal E, PetscReal nu, M2dPlane plane);
 
 /* assemble K and the load vector f (edge loads, body force of the MMS) */
-PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f);
+PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Vec f);
 /* Dirichlet rows (global, locally owned) and their values; PetscFree2 them */
-PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals);
+PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals);
 /* Apply Dirichlet rows to K, f (symmetric elimination, u set on those rows) */
 PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);
 /* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */
-PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscReal *stress);
+PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *stress);
 
 /* integral of the pressure of load l over its curve (global) */
-PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, PetscReal *R);
+PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R);
 
 /* manufactured solution (-exact mms) on body b */
-void M2dMMSDisplacement(const Scene *s, PetscReal x, PetscReal y, PetscReal u[2]);
+void M2dMMSDisplacement(const M2dScene *s, PetscReal x, PetscReal y, PetscReal u[2]);
 /* L2 norm of u_h - u_exact and of u_exact (global) */
-PetscErrorCode ElasticityMMSError(const Mesh *m, const Scene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax);
+PetscErrorCode ElasticityMMSError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax);
 #endif

@@ -31,16 +31,16 @@ typedef struct {
   Vec       b, x;
   PetscReal gamma;          /* applied augmentation weight (scaled) */
   PetscBool aij;
-} KKT;
+} M2dKKT;
 
-PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt);
+PetscErrorCode KKTCreate(const M2dScene *s, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
 /* Multiplier rows of A: active[j] != 0 gives the constraint row scale * C_j,
  * active[j] = 0 gives -(scale / c) e_j (lambda_j = 0). Rebuilds the augmented
  * block and A. `scale` turns weighted gaps into forces (see activeset.c). */
-PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale);
+PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scale);
 /* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
-PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp);
+PetscErrorCode KKTSetupKSP(M2dKKT *kkt, KSP ksp);
 /* solve; u gets the displacement, lam (layout of C's rows) the multipliers */
-PetscErrorCode KKTSolve(KKT *kkt, KSP ksp, Vec u, Vec lam);
-PetscErrorCode KKTDestroy(KKT *kkt);
+PetscErrorCode KKTSolve(M2dKKT *kkt, KSP ksp, Vec u, Vec lam);
+PetscErrorCode KKTDestroy(M2dKKT *kkt);
 #endif

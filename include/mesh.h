@@ -26,20 +26,20 @@ typedef struct {
   PetscInt  groupdim[M2D_MAX_GROUPS];
   PetscInt  ncell_global, nvert_global;
   char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
-} Mesh;
+} M2dMesh;
 
-PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m);
-PetscErrorCode MeshDestroy(Mesh *m);
+PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
+PetscErrorCode MeshDestroy(M2dMesh *m);
 /* dimension of a physical group, -1 if the mesh has none of that name */
-PetscInt       MeshGroupDim(const Mesh *m, const char *name);
+PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
 /* Local points of a group: for curves the edges, for points the vertices.
  * Errors with a message naming `option` if the group does not exist. */
 /* the stiffness matrix: AIJ, preallocated from the cells, local-to-global map
  * of the DM; plus the couplings within each of the ngrp groups of global dofs
  * gdofs[gptr[j] .. gptr[j+1]-1] (the contact rows: K + g C^T C then keeps K's
  * pattern), stored as explicit zeros. ngrp may be 0. */
-PetscErrorCode MeshCreateMatrix(const Mesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
-PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *option, IS *is);
+PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
+PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
 /* Cell coordinates, counter-clockwise: xy[8] */
-void MeshCellCoordinates(const Mesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);
+void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);
 #endif

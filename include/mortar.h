@@ -17,18 +17,18 @@
  * edge (xi), tributary length a_s: row a_s [n, -N_1(xi) n, -N_2(xi) n]. */
 #ifndef M2D_MORTAR_H
 #define M2D_MORTAR_H
-#include "interface.h"
+#include "surface.h"
 
 typedef struct {
   PetscInt  nm_edge, m_edge;
   PetscReal zeta[2]; /* segment on the non-mortar edge, zeta[0] < zeta[1] in [-1, 1] */
   PetscReal xi[2];   /* the same points projected on the mortar edge */
-} Segment;
+} M2dSegment;
 
 typedef struct {
   PetscInt nseg;
-  Segment *seg;
-} SegmentSet;
+  M2dSegment *seg;
+} M2dSegmentSet;
 
 typedef struct {
   PetscInt   n;      /* multipliers */
@@ -38,22 +38,22 @@ typedef struct {
   PetscReal *val;
   PetscReal *g0;     /* weighted gap of the reference configuration */
   PetscReal *w;      /* weight: int N_j da (mortar) or a_j (NTS): pressure x w = force */
-} ContactRows;
+} M2dContactRows;
 
 /* candidate pairs by bounding boxes (enlarged by reach), facing normals, then
  * the overlap of each pair; segments with a gap beyond +-reach are dropped */
-PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscReal reach, SegmentSet *S);
-PetscErrorCode SegmentSetDestroy(SegmentSet *S);
+PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dSegmentSet *S);
+PetscErrorCode SegmentSetDestroy(M2dSegmentSet *S);
 /* D (2x2, non-mortar edge nodes i,j) and M (2x2, i and mortar edge nodes k) of one segment */
 /* multiplier basis: standard (lambda interpolated by N, seed eq. 10) or dual
  * (biorthogonal psi_1 = 2 N_1 - N_2, psi_2 = 2 N_2 - N_1: int psi_i N_j = delta_ij int N_j,
  * so D is diagonal on fully covered edges and the nodal contact conditions decouple) */
 typedef enum {
-  MORTAR_STANDARD,
-  MORTAR_DUAL
-} MortarBasis;
-void           MortarSegmentDM(const Surface *nm, const Segment *s, MortarBasis basis, PetscReal D[4], PetscReal M[4]);
-PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, MortarBasis basis, ContactRows *R);
-PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, ContactRows *R);
-PetscErrorCode ContactRowsDestroy(ContactRows *R);
+  M2D_MORTAR_STANDARD,
+  M2D_MORTAR_DUAL
+} M2dMortarBasis;
+void           MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMortarBasis basis, PetscReal D[4], PetscReal M[4]);
+PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R);
+PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R);
+PetscErrorCode ContactRowsDestroy(M2dContactRows *R);
 #endif

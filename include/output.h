@@ -18,21 +18,21 @@ typedef struct {
   Vec         v;      /* global vector in the mesh's dof layout (2 per vertex) */
   PetscBool   vector; /* TRUE: one 3-vector field (z = 0); FALSE: component 0 only */
   PetscInt    comp;   /* component written when !vector */
-} PointField;
+} M2dPointField;
 
 typedef struct {
   const char      *name;
   const PetscReal *data; /* per local cell, `stride` values, this one at `comp` */
   PetscInt         stride, comp;
-} CellField;
+} M2dCellField;
 
 typedef struct {
   PetscInt   npoint, ncell;
-  PointField point[M2D_MAX_FIELDS];
-  CellField  cell[M2D_MAX_FIELDS];
-} FieldSet;
+  M2dPointField point[M2D_MAX_FIELDS];
+  M2dCellField  cell[M2D_MAX_FIELDS];
+} M2dFieldSet;
 
-PetscErrorCode OutputWrite(const Mesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const FieldSet *fs);
+PetscErrorCode OutputWrite(const M2dMesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs);
 
 /* ---- summary JSON ---- */
 #define M2D_MAX_SUMMARY 64
@@ -41,9 +41,9 @@ typedef struct {
   char     section[M2D_MAX_SUMMARY][16]; /* "" top level, else object name */
   char     key[M2D_MAX_SUMMARY][48];
   char     value[M2D_MAX_SUMMARY][256];  /* JSON text */
-} Summary;
-void           SummaryReal(Summary *s, const char *section, const char *key, PetscReal v);
-void           SummaryInt(Summary *s, const char *section, const char *key, PetscInt v);
-void           SummaryString(Summary *s, const char *section, const char *key, const char *v);
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const Summary *s);
+} M2dSummary;
+void           SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v);
+void           SummaryInt(M2dSummary *s, const char *section, const char *key, PetscInt v);
+void           SummaryString(M2dSummary *s, const char *section, const char *key, const char *v);
+PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s);
 #endif

@@ -10,25 +10,25 @@
 #define M2D_NAME_LEN   128
 
 typedef enum {
-  PLANE_STRAIN,
-  PLANE_STRESS
-} PlaneMode;
+  M2D_PLANE_STRAIN,
+  M2D_PLANE_STRESS
+} M2dPlane;
 
 typedef enum {
-  EXACT_NONE,
-  EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 */
-  EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
-} ExactKind;
+  M2D_EXACT_NONE,
+  M2D_EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 */
+  M2D_EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
+} M2dExact;
 
 typedef enum {
-  CONTACT_MORTAR,
-  CONTACT_NTS
-} ContactMethod;
+  M2D_CONTACT_MORTAR,
+  M2D_CONTACT_NTS
+} M2dContactMethod;
 
 typedef enum {
-  KKT_AIJ,
-  KKT_NEST
-} KKTMatType;
+  M2D_KKT_AIJ,
+  M2D_KKT_NEST
+} M2dKKTMat;
 
 typedef enum {
   M2D_PARTITIONER_METIS,
@@ -38,13 +38,13 @@ typedef enum {
 typedef struct {
   char      name[M2D_NAME_LEN]; /* physical surface name */
   PetscReal E, nu;
-} Body;
+} M2dBody;
 
 typedef struct {
   char      group[M2D_NAME_LEN]; /* physical curve or point */
   PetscBool comp[2];             /* which of u_x, u_y are prescribed */
   PetscReal value[2];
-} DirichletBC;
+} M2dDirichlet;
 
 typedef struct {
   char      group[M2D_NAME_LEN]; /* physical curve */
@@ -52,7 +52,7 @@ typedef struct {
   PetscReal p;    /* pressure, positive pushing into the body: p + grad . (x, y) */
   PetscReal grad[2];
   PetscReal t[2]; /* traction vector */
-} EdgeLoad;
+} M2dEdgeLoad;
 
 typedef struct {
   PetscInt    nmesh;
@@ -61,18 +61,18 @@ typedef struct {
   M2dPartitioner mesh_partitioner;
   char        mesh[2][PETSC_MAX_PATH_LEN];
   PetscInt    nbody; /* 0 = every physical surface is a body */
-  Body        body[M2D_MAX_BODIES];
-  PlaneMode   plane;
+  M2dBody        body[M2D_MAX_BODIES];
+  M2dPlane   plane;
   PetscBool   sri; /* selective reduced integration of the volumetric (lambda) part */
   PetscInt    ndir;
-  DirichletBC dir[M2D_MAX_BC];
+  M2dDirichlet dir[M2D_MAX_BC];
   PetscInt    nload;
-  EdgeLoad    load[M2D_MAX_BC];
-  ExactKind   exact;
+  M2dEdgeLoad    load[M2D_MAX_BC];
+  M2dExact   exact;
   PetscReal   mms_amplitude;
   /* contact pair (empty: no contact) */
   char          contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
-  ContactMethod method;
+  M2dContactMethod method;
   int           basis;       /* MortarBasis (mortar.h) */
   PetscReal     reach;       /* search distance; <= 0: automatic */
   PetscBool     unilateral;  /* FALSE: every candidate node is held closed (tied) */
@@ -82,7 +82,7 @@ typedef struct {
   PetscBool     hertz;       /* compare the contact pressure with Hertz */
   PetscReal     hertz_radius, hertz_load;
   PetscReal     exact_p;     /* -exact uniform: the exact -sigma_yy */
-  KKTMatType    kkt_mat;
+  M2dKKTMat    kkt_mat;
   PetscBool     condensed;   /* active set: factor once with a Schur complement (condensed.h) */
   PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
   M2dOrdering   kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
@@ -93,10 +93,10 @@ typedef struct {
   char        summary[PETSC_MAX_PATH_LEN];
   PetscBool   write_vtu, write_hdf5;
   PetscBool   help;
-} Scene;
+} M2dScene;
 
-PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s);
+PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s);
 /* Materials are read per body once the body names are known (after the mesh). */
-PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s);
-PetscErrorCode SceneView(MPI_Comm comm, const Scene *s);
+PetscErrorCode SceneReadMaterials(MPI_Comm comm, M2dScene *s);
+PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s);
 #endif

@@ -10,5 +10,5 @@
 #define M2D_SUPPORTS_H
 #include "contact.h"
 
-PetscErrorCode CheckRigidModes(const Mesh *m, const Scene *s, const Contact *ct, PetscInt ndir, const PetscInt drows[]);
+PetscErrorCode CheckRigidModes(const M2dMesh *m, const M2dScene *s, const M2dContact *ct, PetscInt ndir, const PetscInt drows[]);
 #endif

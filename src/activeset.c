@@ -4,7 +4,7 @@
 #include <petscsnes.h>
 
 typedef struct {
-  KKT       *kkt;
+  M2dKKT       *kkt;
   PetscReal  c;
   PetscReal  h;               /* mean non-mortar edge length: rows scale c h (weighted gap -> force) */
   PetscBool  vi, monitor;
@@ -17,17 +17,17 @@ typedef struct {
   uint64_t   hist[1024];
   PetscInt   histn[1024];
   PetscBool  cycling_failed;
-  Condensed *cond; /* fast path (the SNES unknown is nu, condensed.h), or NULL */
+  M2dCondensed *cond; /* fast path (the SNES unknown is nu, condensed.h), or NULL */
   Vec        cu;   /* fast path: C u(nu) */
 } Ctx;
 
-PetscReal ActiveSetDefaultC(const Scene *s, const Contact *ct)
+PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
 {
   PetscReal inv = 0, h = 0;
   PetscInt  b[2] = {ct->nm.body, ct->m.body};
   for (int k = 0; k < 2; k++) {
-    const Body *bd = &s->body[b[k] >= 0 ? b[k] : 0];
-    PetscReal   Ep = s->plane == PLANE_STRAIN ? bd->E / (1 - bd->nu * bd->nu) : bd->E;
+    const M2dBody *bd = &s->body[b[k] >= 0 ? b[k] : 0];
+    PetscReal   Ep = s->plane == M2D_PLANE_STRAIN ? bd->E / (1 - bd->nu * bd->nu) : bd->E;
     inv += 1.0 / Ep;
   }
   for (PetscInt e = 0; e < ct->nm.nedge; e++) h += ct->nm.len[e];
@@ -81,7 +81,7 @@ static PetscErrorCode UpdateMask(Ctx *x)
 static PetscErrorCode FormFunction(SNES snes, Vec z, Vec F, void *ctx)
 {
   Ctx *x   = (Ctx *)ctx;
-  KKT *kkt = x->kkt;
+  M2dKKT *kkt = x->kkt;
   Vec  Fu, Fl;
 
   PetscFunctionBeginUser;
@@ -230,7 +230,7 @@ static PetscErrorCode ReducedFunction(SNES snes, Vec nu, Vec F, void *ctx)
  * set's linear piece at nu = 0. The SNES starts from nu0. */
 static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec z0, Vec *nu, Mat *J)
 {
-  KKT               *kkt = x->kkt;
+  M2dKKT               *kkt = x->kkt;
   Vec                F0, F;
   PetscInt           n, N;
   const PetscScalar *w, *r, *a;
@@ -273,7 +273,7 @@ static PetscErrorCode ReducedStart(SNES snes, Ctx *x, Vec z0, Vec *nu, Mat *J)
 
 static PetscErrorCode DensePCSetUp(PC pc)
 {
-  Condensed *cs;
+  M2dCondensed *cs;
   Mat        P;
 
   PetscFunctionBeginUser;
@@ -285,7 +285,7 @@ static PetscErrorCode DensePCSetUp(PC pc)
 
 static PetscErrorCode DensePCApply(PC pc, Vec b, Vec y)
 {
-  Condensed *cs;
+  M2dCondensed *cs;
 
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &cs));
@@ -354,7 +354,7 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ActiveSetSolve(const Scene *s, const Mesh *m, Contact *ct, KKT *kkt, Vec u, Vec lam, Vec active, ActiveSetInfo *info)
+PetscErrorCode ActiveSetSolve(const M2dScene *s, const M2dMesh *m, M2dContact *ct, M2dKKT *kkt, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info)
 {
   MPI_Comm            comm = PetscObjectComm((PetscObject)kkt->K);
   SNES                snes;

@@ -110,9 +110,9 @@ static PetscErrorCode KKTRowsGet(KKTRows *kr, PetscInt i, PetscInt *nc)
  * other ranks' interiors then couple only to their own interior and to the
  * interface). Numbering: the separator rank by rank, then the multipliers in
  * the order of kkt->r. Sets kr (rows and classes) and cs->ns, nI, lidx. */
-static PetscErrorCode Classify(Condensed *cs, KKTRows *kr, PetscInt **sepall)
+static PetscErrorCode Classify(M2dCondensed *cs, KKTRows *kr, PetscInt **sepall)
 {
-  KKT            *kkt  = cs->kkt;
+  M2dKKT            *kkt  = cs->kkt;
   MPI_Comm        comm = PetscObjectComm((PetscObject)kkt->Kblk);
   PetscMPIInt     size, rank, nn, *rc, *displ;
   const PetscInt *ur;
@@ -171,7 +171,7 @@ static PetscErrorCode Classify(Condensed *cs, KKTRows *kr, PetscInt **sepall)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
+PetscErrorCode CondensedCreate(M2dKKT *kkt, const M2dScene *s, M2dCondensed *cs)
 {
   Mat             A    = kkt->Kblk; /* for the communicator and the log */
   MPI_Comm        comm = PetscObjectComm((PetscObject)A);
@@ -424,7 +424,7 @@ PetscErrorCode CondensedCreate(KKT *kkt, const Scene *s, Condensed *cs)
  * multipliers nu (in lam): the separator x_s = S_ss^-1 (g_s - S_sl nu), then
  * every rank's interior (MUMPS' backward phase, ICNTL(26) = 2):
  * u = K_g^-1 (f - C^T nu). Phase 2 uses what phase 1 left (cs->b, cs->g). */
-static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
+static PetscErrorCode SchurPhase(M2dCondensed *cs, int phase, Vec lam, Vec u)
 {
   M2dMumps          *mu   = cs->mumps;
   MPI_Comm           comm = PetscObjectComm((PetscObject)cs->kkt->Kblk);
@@ -499,9 +499,9 @@ static PetscErrorCode SchurPhase(Condensed *cs, int phase, Vec lam, Vec u)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedReducedSetup(Condensed *cs)
+PetscErrorCode CondensedReducedSetup(M2dCondensed *cs)
 {
-  KKT *kkt = cs->kkt;
+  M2dKKT *kkt = cs->kkt;
 
   PetscFunctionBeginUser;
   PetscCheck(cs->S && !cs->w, PetscObjectComm((PetscObject)kkt->Kblk), PETSC_ERR_PLIB, "reduced iteration: one setup after the factorization");
@@ -511,7 +511,7 @@ PetscErrorCode CondensedReducedSetup(Condensed *cs)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu)
+PetscErrorCode CondensedReducedGaps(M2dCondensed *cs, Vec nu, Vec cu)
 {
   const PetscScalar *v, *w;
   PetscScalar       *y;
@@ -533,7 +533,7 @@ PetscErrorCode CondensedReducedGaps(Condensed *cs, Vec nu, Vec cu)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, PetscReal h, Mat J)
+PetscErrorCode CondensedReducedJacobian(M2dCondensed *cs, Vec active, PetscReal c, PetscReal h, Mat J)
 {
   const PetscScalar *a;
   PetscScalar       *Jv;
@@ -557,7 +557,7 @@ PetscErrorCode CondensedReducedJacobian(Condensed *cs, Vec active, PetscReal c, 
 }
 
 /* every rank: the whole J, gathered by rows (row-major = J^T column-major), LU of J^T */
-PetscErrorCode CondensedDenseFactor(Condensed *cs, Mat J)
+PetscErrorCode CondensedDenseFactor(M2dCondensed *cs, Mat J)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)J);
   PetscMPIInt        size, nr, *rc, *displ;
@@ -589,7 +589,7 @@ PetscErrorCode CondensedDenseFactor(Condensed *cs, Mat J)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x)
+PetscErrorCode CondensedDenseSolve(M2dCondensed *cs, Vec b, Vec x)
 {
   PetscScalar       *v;
   const PetscScalar *va;
@@ -614,9 +614,9 @@ PetscErrorCode CondensedDenseSolve(Condensed *cs, Vec b, Vec x)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
+PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
 {
-  KKT *kkt = cs->kkt;
+  M2dKKT *kkt = cs->kkt;
 
   PetscFunctionBeginUser;
   PetscCheck(cs->w, PetscObjectComm((PetscObject)kkt->Kblk), PETSC_ERR_PLIB, "reduced iteration: recovery before the setup");
@@ -624,7 +624,7 @@ PetscErrorCode CondensedRecover(Condensed *cs, Vec nu, Vec u)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CondensedDestroy(Condensed *cs)
+PetscErrorCode CondensedDestroy(M2dCondensed *cs)
 {
   PetscFunctionBeginUser;
   if (cs->mumps) {

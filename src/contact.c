@@ -2,7 +2,7 @@
 #include "contact.h"
 #include "util.h"
 
-PetscErrorCode ContactSetup(const Mesh *m, const Scene *s, Contact *c)
+PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
 
@@ -12,16 +12,16 @@ PetscErrorCode ContactSetup(const Mesh *m, const Scene *s, Contact *c)
   PetscCall(SurfaceGather(m, s->contact_m, "-contact_mortar", &c->m));
   c->reach = s->reach;
   if (c->reach <= 0) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
-  if (s->method == CONTACT_MORTAR) {
+  if (s->method == M2D_CONTACT_MORTAR) {
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
   PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)c->reach);
-  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == CONTACT_MORTAR ? (s->basis == MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
+  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == M2D_CONTACT_MORTAR ? (s->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam, Vec active)
+PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active)
 {
   Vec                gw, all_l, all_g, all_a;
   VecScatter         sc;
@@ -80,7 +80,7 @@ PetscErrorCode ContactResults(Contact *c, const KKT *kkt, Vec u, Vec lam, Vec ac
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactFillField(const Contact *c, Vec field)
+PetscErrorCode ContactFillField(const M2dContact *c, Vec field)
 {
   PetscMPIInt rank;
   PetscInt    lo, hi;
@@ -120,7 +120,7 @@ static int CmpXY(const void *a, const void *b)
   return (p->y > q->y) - (p->y < q->y);
 }
 
-PetscErrorCode ContactWriteCSV(MPI_Comm comm, const Contact *c, const char *path)
+PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path)
 {
   PetscMPIInt    rank;
   PetscErrorCode ierr = 0;
@@ -154,7 +154,7 @@ PetscErrorCode ContactWriteCSV(MPI_Comm comm, const Contact *c, const char *path
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactDestroy(Contact *c)
+PetscErrorCode ContactDestroy(M2dContact *c)
 {
   PetscFunctionBeginUser;
   PetscCall(SurfaceDestroy(&c->nm));
@@ -165,7 +165,7 @@ PetscErrorCode ContactDestroy(Contact *c)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
+PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResult *h)
 {
   XYIdx    *o;
   PetscReal *px, inv = 0, Es, P = s->hertz_load, R = s->hertz_radius, num = 0, den = 0;
@@ -174,7 +174,7 @@ PetscErrorCode ContactHertz(const Contact *c, const Scene *s, HertzResult *h)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(h, sizeof(*h)));
-  for (PetscInt k = 0; k < s->nbody; k++) inv += (s->plane == PLANE_STRAIN ? 1 - s->body[k].nu * s->body[k].nu : 1.0) / s->body[k].E;
+  for (PetscInt k = 0; k < s->nbody; k++) inv += (s->plane == M2D_PLANE_STRAIN ? 1 - s->body[k].nu * s->body[k].nu : 1.0) / s->body[k].E;
   PetscCheck(s->nbody == 2, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -hertz: needs exactly two bodies");
   Es    = 1.0 / inv;
   h->a  = PetscSqrtReal(4 * P * R / (PETSC_PI * Es));

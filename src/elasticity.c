@@ -8,11 +8,11 @@ static const PetscReal g2[2] = {-0.57735026918962576451, 0.57735026918962576451}
 static const PetscReal g3[3] = {-0.77459666924148337704, 0.0, 0.77459666924148337704};
 static const PetscReal w3[3] = {0.55555555555555555556, 0.88888888888888888889, 0.55555555555555555556};
 
-void M2dMaterialMatrix(PetscReal E, PetscReal nu, PlaneMode plane, PetscReal D[9])
+void M2dMaterialMatrix(PetscReal E, PetscReal nu, M2dPlane plane, PetscReal D[9])
 {
   PetscReal c;
   memset(D, 0, 9 * sizeof(PetscReal));
-  if (plane == PLANE_STRAIN) {
+  if (plane == M2D_PLANE_STRAIN) {
     c    = E / ((1 + nu) * (1 - 2 * nu));
     D[0] = D[4] = c * (1 - nu);
     D[1] = D[3] = c * nu;
@@ -46,10 +46,10 @@ PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal 
   return det;
 }
 
-PetscReal M2dLambda(PetscReal E, PetscReal nu, PlaneMode plane)
+PetscReal M2dLambda(PetscReal E, PetscReal nu, M2dPlane plane)
 {
   PetscReal mu = E / (2 * (1 + nu)), lam = E * nu / ((1 + nu) * (1 - 2 * nu));
-  return plane == PLANE_STRAIN ? lam : 2 * lam * mu / (lam + 2 * mu);
+  return plane == M2D_PLANE_STRAIN ? lam : 2 * lam * mu / (lam + 2 * mu);
 }
 
 /* B (3x8) at one point from the shape-function derivatives */
@@ -136,14 +136,14 @@ void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri,
  * u_x = A sin(pi x) cos(pi y), u_y = A cos(pi x) sin(pi y) on every body, with
  * the body force f = -div sigma(u) for that body's Lame constants (plane stress
  * uses the effective lambda* = 2 lambda mu / (lambda + 2 mu)). */
-void M2dMMSDisplacement(const Scene *s, PetscReal x, PetscReal y, PetscReal u[2])
+void M2dMMSDisplacement(const M2dScene *s, PetscReal x, PetscReal y, PetscReal u[2])
 {
   const PetscReal A = s->mms_amplitude;
   u[0]              = A * PetscSinReal(PETSC_PI * x) * PetscCosReal(PETSC_PI * y);
   u[1]              = A * PetscCosReal(PETSC_PI * x) * PetscSinReal(PETSC_PI * y);
 }
 
-static void MMSBodyForce(const Scene *s, const Body *b, PetscReal x, PetscReal y, PetscReal f[2])
+static void MMSBodyForce(const M2dScene *s, const M2dBody *b, PetscReal x, PetscReal y, PetscReal f[2])
 {
   const PetscReal A = s->mms_amplitude, pi2 = PETSC_PI * PETSC_PI;
   PetscReal       mu = b->E / (2 * (1 + b->nu)), lam = b->E * b->nu / ((1 + b->nu) * (1 - 2 * b->nu));
@@ -151,13 +151,13 @@ static void MMSBodyForce(const Scene *s, const Body *b, PetscReal x, PetscReal y
   PetscReal       ux = A * sx * cy, uy = A * cx * sy;
   PetscReal       ux_xx = -pi2 * ux, ux_yy = -pi2 * ux, ux_xy = -A * pi2 * cx * sy;
   PetscReal       uy_xx = -pi2 * uy, uy_yy = -pi2 * uy, uy_xy = -A * pi2 * sx * cy;
-  if (s->plane == PLANE_STRESS) lam = 2 * lam * mu / (lam + 2 * mu);
+  if (s->plane == M2D_PLANE_STRESS) lam = 2 * lam * mu / (lam + 2 * mu);
   f[0] = -(mu * (ux_xx + ux_yy) + (lam + mu) * (ux_xx + uy_xy));
   f[1] = -(mu * (uy_xx + uy_yy) + (lam + mu) * (ux_xy + uy_yy));
 }
 
 /* D and the lambda of the split, per body */
-static void BodyMaterials(const Scene *s, PetscReal D[][9], PetscReal lam[])
+static void BodyMaterials(const M2dScene *s, PetscReal D[][9], PetscReal lam[])
 {
   for (PetscInt b = 0; b < s->nbody; b++) {
     M2dMaterialMatrix(s->body[b].E, s->body[b].nu, s->plane, D[b]);
@@ -165,7 +165,7 @@ static void BodyMaterials(const Scene *s, PetscReal D[][9], PetscReal lam[])
   }
 }
 
-static PetscErrorCode CellDofs(const Mesh *m, PetscSection lsec, PetscInt c, PetscInt idx[8])
+static PetscErrorCode CellDofs(const M2dMesh *m, PetscSection lsec, PetscInt c, PetscInt idx[8])
 {
   PetscFunctionBeginUser;
   for (int a = 0; a < 4; a++) {
@@ -177,11 +177,11 @@ static PetscErrorCode CellDofs(const Mesh *m, PetscSection lsec, PetscInt c, Pet
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscScalar *ca, PetscSection cs, PetscSection lsec, PetscScalar *fl)
+static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const PetscScalar *ca, PetscSection cs, PetscSection lsec, PetscScalar *fl)
 {
   PetscFunctionBeginUser;
   for (PetscInt l = 0; l < s->nload; l++) {
-    const EdgeLoad *ld  = &s->load[l];
+    const M2dEdgeLoad *ld  = &s->load[l];
     const char     *opt = ld->is_pressure ? "-pressure" : "-traction";
     IS              is;
     const PetscInt *pts;
@@ -244,7 +244,7 @@ static PetscErrorCode AddEdgeLoads(const Mesh *m, const Scene *s, const PetscSca
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, PetscReal *R)
+PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R)
 {
   PetscInt           n;
   const PetscInt    *pts;
@@ -283,7 +283,7 @@ PetscErrorCode ElasticityPressureResultant(const Mesh *m, const EdgeLoad *l, Pet
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
+PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Vec f)
 {
   PetscSection       lsec, cs;
   Vec                cl, fl;
@@ -308,7 +308,7 @@ PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
     Q4Stiffness(xy, D[b], s->sri, lam[b], Ke);
     PetscCall(CellDofs(m, lsec, c, idx));
     PetscCall(MatSetValuesLocal(K, 8, idx, 8, idx, Ke, ADD_VALUES));
-    if (s->exact == EXACT_MMS) { /* body force, 3x3 Gauss */
+    if (s->exact == M2D_EXACT_MMS) { /* body force, 3x3 Gauss */
       for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
           PetscReal N[4], dN[8], x = 0, y = 0, fb[2];
@@ -336,7 +336,7 @@ PetscErrorCode ElasticityAssemble(const Mesh *m, const Scene *s, Mat K, Vec f)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals)
+PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals)
 {
   PetscSection       gsec, cs;
   Vec                cl;
@@ -351,7 +351,7 @@ PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
   PetscCall(PetscCalloc2(nv, &flag, 2 * nv, &value));
   for (PetscInt k = 0; k < s->ndir; k++) {
-    const DirichletBC *bc = &s->dir[k];
+    const M2dDirichlet *bc = &s->dir[k];
     IS                 is;
     const PetscInt    *pts;
     PetscInt           np;
@@ -391,14 +391,14 @@ PetscErrorCode ElasticityDirichletRows(const Mesh *m, const Scene *s, PetscInt *
     PetscReal ue[2] = {0, 0};
     if (!flag[v]) continue;
     PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
-    if (s->exact == EXACT_MMS) {
+    if (s->exact == M2D_EXACT_MMS) {
       PetscCall(PetscSectionGetOffset(cs, v + m->vStart, &coff));
       M2dMMSDisplacement(s, PetscRealPart(ca[coff]), PetscRealPart(ca[coff + 1]), ue);
     }
     for (int d = 0; d < 2; d++)
       if (flag[v] & (1 << d)) {
         (*rows)[cnt]   = goff + d;
-        (*vals)[cnt++] = s->exact == EXACT_MMS ? ue[d] : value[2 * v + d];
+        (*vals)[cnt++] = s->exact == M2D_EXACT_MMS ? ue[d] : value[2 * v + d];
       }
   }
   PetscCall(VecRestoreArrayRead(cl, &ca));
@@ -429,7 +429,7 @@ PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const P
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscReal *stress)
+PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *stress)
 {
   PetscSection       lsec, cs;
   Vec                cl, ul;
@@ -452,7 +452,7 @@ PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscR
     PetscCall(CellDofs(m, lsec, c, idx));
     for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ua[idx[k]]);
     Q4AverageStress(xy, D[b], s->sri, lam[b], ue, sig);
-    sz     = s->plane == PLANE_STRAIN ? s->body[b].nu * (sig[0] + sig[1]) : 0.0;
+    sz     = s->plane == M2D_PLANE_STRAIN ? s->body[b].nu * (sig[0] + sig[1]) : 0.0;
     out[0] = sig[0];
     out[1] = sig[1];
     out[2] = sz;
@@ -465,7 +465,7 @@ PetscErrorCode ElasticityCellStress(const Mesh *m, const Scene *s, Vec u, PetscR
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityMMSError(const Mesh *m, const Scene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax)
+PetscErrorCode ElasticityMMSError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax)
 {
   PetscSection       lsec, cs;
   Vec                cl, ul;

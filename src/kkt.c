@@ -1,7 +1,7 @@
 /* kkt.c - assemble and solve the contact saddle-point system (see kkt.h). */
 #include "kkt.h"
 
-static PetscErrorCode BuildC(MPI_Comm comm, const ContactRows *R, Mat K, Mat *C)
+static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat *C)
 {
   PetscInt nu, Nu, lo, hi, clo, chi, *dnz, *onz;
 
@@ -36,7 +36,7 @@ static PetscErrorCode BuildC(MPI_Comm comm, const ContactRows *R, Mat K, Mat *C)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], KKT *kkt)
+PetscErrorCode KKTCreate(const M2dScene *s, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)K);
   Vec      g0, mask, fk;
@@ -48,7 +48,7 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   kkt->nlam = R->n;
   kkt->K    = K;
   kkt->f    = f;
-  kkt->aij  = (PetscBool)(s->kkt_mat == KKT_AIJ);
+  kkt->aij  = (PetscBool)(s->kkt_mat == M2D_KKT_AIJ);
   PetscCall(PetscObjectReference((PetscObject)K));
   PetscCall(PetscObjectReference((PetscObject)f));
   PetscCall(BuildC(comm, R, K, &kkt->C));
@@ -112,8 +112,8 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
     Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->CA, kkt->Z};
     PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   }
-  if (s->kkt_mat == KKT_AIJ && s->unilateral && s->condensed && kkt->gamma > 0) kkt->A = NULL; /* condensed.c reads the blocks */
-  else if (s->kkt_mat == KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
+  if (s->kkt_mat == M2D_KKT_AIJ && s->unilateral && s->condensed && kkt->gamma > 0) kkt->A = NULL; /* condensed.c reads the blocks */
+  else if (s->kkt_mat == M2D_KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
   else {
     PetscCall(PetscObjectReference((PetscObject)kkt->nest));
     kkt->A = kkt->nest;
@@ -133,7 +133,7 @@ PetscErrorCode KKTCreate(const Scene *s, const ContactRows *R, Mat K, Vec f, Vec
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale)
+PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scale)
 {
   const PetscScalar *a;
   PetscInt           lo, hi, n = 0, *rows;
@@ -198,7 +198,7 @@ PetscErrorCode KKTSetActive(KKT *kkt, Vec active, PetscReal c, PetscReal scale)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp)
+PetscErrorCode KKTSetupKSP(M2dKKT *kkt, KSP ksp)
 {
   PC        pc;
   PetscBool fs;
@@ -218,7 +218,7 @@ PetscErrorCode KKTSetupKSP(KKT *kkt, KSP ksp)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTSolve(KKT *kkt, KSP ksp, Vec u, Vec lam)
+PetscErrorCode KKTSolve(M2dKKT *kkt, KSP ksp, Vec u, Vec lam)
 {
   PetscFunctionBeginUser;
   PetscCall(KSPSolve(ksp, kkt->b, kkt->x));
@@ -227,7 +227,7 @@ PetscErrorCode KKTSolve(KKT *kkt, KSP ksp, Vec u, Vec lam)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTDestroy(KKT *kkt)
+PetscErrorCode KKTDestroy(M2dKKT *kkt)
 {
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&kkt->C));

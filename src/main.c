@@ -32,7 +32,7 @@ typedef enum {
 } StageId;
 static const char *stage_name[ST_COUNT] = {"mesh", "contact", "assembly", "solve", "output"};
 
-static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
+static PetscErrorCode CheckOutputDir(MPI_Comm comm, const M2dScene *s)
 {
   PetscMPIInt rank;
   char        msg[1024] = "";
@@ -69,7 +69,7 @@ static PetscErrorCode CheckOutputDir(MPI_Comm comm, const Scene *s)
 }
 
 /* a physical group that exists but holds nothing would silently do nothing */
-static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const Mesh *m, const char *group, const char *opt)
+static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const M2dMesh *m, const char *group, const char *opt)
 {
   IS       is;
   PetscInt n;
@@ -84,7 +84,7 @@ static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const Mesh *m, const char *gr
 }
 
 /* every physical group the options name must exist, before any work is done */
-static PetscErrorCode CheckGroups(MPI_Comm comm, const Scene *s, const Mesh *m)
+static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < s->ndir; i++) {
@@ -137,8 +137,8 @@ static PetscErrorCode SetupSolver(KSP ksp, M2dOrdering ord)
 
 static PetscErrorCode Run(MPI_Comm comm)
 {
-  Scene         s;
-  Mesh          m;
+  M2dScene         s;
+  M2dMesh          m;
   Mat           K;
   Vec           f, u;
   KSP           ksp;
@@ -149,13 +149,13 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscScalar  *dvals;
   PetscReal    *stress;
   PetscMPIInt   size;
-  Summary      *sum;
+  M2dSummary      *sum;
   KSPConvergedReason reason;
   PetscBool     has_contact;
-  Contact       contact;
-  KKT           kkt;
+  M2dContact       contact;
+  M2dKKT           kkt;
   Vec           lam = NULL, cfield = NULL, active = NULL;
-  ActiveSetInfo asinfo;
+  M2dActiveSetInfo asinfo;
 
   PetscFunctionBeginUser;
   tstart = M2dWallTime();
@@ -230,7 +230,7 @@ static PetscErrorCode Run(MPI_Comm comm)
       char      st[64];
       PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &vi));
       vi = (PetscBool)(vi && !strcmp(st, SNESVINEWTONRSLS));
-      if (s.kkt_mat == KKT_NEST || vi) {
+      if (s.kkt_mat == M2D_KKT_NEST || vi) {
         s.condensed = PETSC_FALSE;
         PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
       } else if (s.kkt_augment == 0) s.kkt_augment = 1.0;
@@ -296,12 +296,12 @@ static PetscErrorCode Run(MPI_Comm comm)
   SummaryInt(sum, "", "cells", m.ncell_global);
   SummaryInt(sum, "", "ranks", size);
   SummaryInt(sum, "", "bodies", s.nbody);
-  SummaryString(sum, "", "plane", s.plane == PLANE_STRAIN ? "strain" : "stress");
+  SummaryString(sum, "", "plane", s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
   SummaryInt(sum, "", "ksp_iterations", its);
   if (has_contact) {
     char csv[PETSC_MAX_PATH_LEN];
     PetscCall(ContactResults(&contact, &kkt, u, lam, active));
-    SummaryString(sum, "", "method", s.method == CONTACT_MORTAR ? "mortar" : "nts");
+    SummaryString(sum, "", "method", s.method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
     SummaryInt(sum, "", "contact_nodes", contact.R.n);
     SummaryReal(sum, "", "contact_force", contact.force_n);
     SummaryReal(sum, "", "contact_force_x", contact.force[0]);
@@ -321,7 +321,7 @@ static PetscErrorCode Run(MPI_Comm comm)
       SummaryInt(sum, "", "interface_unknowns", asinfo.interface_unknowns);
     }
     if (s.hertz) {
-      HertzResult h;
+      M2dHertzResult h;
       PetscCall(ContactHertz(&contact, &s, &h));
       SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
       SummaryReal(sum, "", "peak_pressure", h.peak_pressure);
@@ -339,7 +339,7 @@ static PetscErrorCode Run(MPI_Comm comm)
       PetscCall(ContactWriteCSV(comm, &contact, csv));
     }
   }
-  if (s.exact == EXACT_UNIFORM) {
+  if (s.exact == M2D_EXACT_UNIFORM) {
     PetscReal p = s.exact_p, e[3] = {0, 0, 0};
     for (PetscInt c = 0; c < nlc; c++) {
       e[0] = PetscMax(e[0], PetscAbsReal(stress[6 * c + 1] + p) / PetscAbsReal(p));
@@ -351,7 +351,7 @@ static PetscErrorCode Run(MPI_Comm comm)
     SummaryReal(sum, "error", "sigma_xx_max_rel", e[1]);
     SummaryReal(sum, "error", "sigma_xy_max_rel", e[2]);
     PetscCall(PetscPrintf(comm, "uniform stress check: max |sigma_yy + p|/p = %.3e, max |sigma_xx|/p = %.3e, max |sigma_xy|/p = %.3e\n", (double)e[0], (double)e[1], (double)e[2]));
-  } else if (s.exact == EXACT_MMS) {
+  } else if (s.exact == M2D_EXACT_MMS) {
     PetscReal err, nrm, h;
     PetscCall(ElasticityMMSError(&m, &s, u, &err, &nrm, &h));
     SummaryReal(sum, "error", "u_l2", err);
@@ -360,15 +360,15 @@ static PetscErrorCode Run(MPI_Comm comm)
     PetscCall(PetscPrintf(comm, "manufactured solution: h = %.4e, L2 displacement error = %.6e (relative %.6e)\n", (double)h, (double)err, (double)(err / nrm)));
   }
   {
-    FieldSet fs;
+    M2dFieldSet fs;
     PetscCall(PetscMemzero(&fs, sizeof(fs)));
-    fs.point[fs.npoint++] = (PointField){"displacement", u, PETSC_TRUE, 0};
+    fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0};
     if (has_contact) {
-      fs.point[fs.npoint++] = (PointField){"contact_pressure", cfield, PETSC_FALSE, 0};
-      fs.point[fs.npoint++] = (PointField){"gap", cfield, PETSC_FALSE, 1};
+      fs.point[fs.npoint++] = (M2dPointField){"contact_pressure", cfield, PETSC_FALSE, 0};
+      fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1};
     }
     const char *cname[6]  = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
-    for (int k = 0; k < 6; k++) fs.cell[fs.ncell++] = (CellField){cname[k], stress, 6, k};
+    for (int k = 0; k < 6; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], stress, 6, k};
     PetscCall(OutputWrite(&m, s.outdir, s.outname, s.write_vtu, s.write_hdf5, &fs));
   }
   t[ST_OUTPUT] = M2dWallTime() - t[ST_OUTPUT];

@@ -38,7 +38,7 @@ static int FindGroup(const ReadInfo *ri, const char *name)
 
 /* Rank 0: read every file, check names and cells, and produce the merged cell
  * list (cells, coords) and label assignments. Returns 0 or fills ri->err. */
-static int ReadMerge(const Scene *s, ReadInfo *ri, PetscInt *nc_out, PetscInt *nv_out, PetscInt **cells_out, PetscReal **coords_out, PetscInt **cellbody_out, MshMesh msh[2], long nodeoff[3], long **nodemap_out)
+static int ReadMerge(const M2dScene *s, ReadInfo *ri, PetscInt *nc_out, PetscInt *nv_out, PetscInt **cells_out, PetscReal **coords_out, PetscInt **cellbody_out, MshMesh msh[2], long nodeoff[3], long **nodemap_out)
 {
   long      nquad = 0, nnode = 0;
   long     *nodemap = NULL;
@@ -240,7 +240,7 @@ static void SkelFree(Skel *sk)
 }
 
 /* Rank 0: physical curves and points -> entries (group index, 0 vertex / 1 edge, id) */
-static PetscErrorCode GroupEntries(const Scene *s, const Mesh *m, MshMesh msh[2], const long nodeoff[3], const long *nodemap, const Skel *sk, PetscInt *nent, PetscInt **ent, char *err, size_t errlen)
+static PetscErrorCode GroupEntries(const M2dScene *s, const M2dMesh *m, MshMesh msh[2], const long nodeoff[3], const long *nodemap, const Skel *sk, PetscInt *nent, PetscInt **ent, char *err, size_t errlen)
 {
   PetscInt n = 0, cap = 0;
 
@@ -521,7 +521,7 @@ static PetscErrorCode BuildDistributed(MPI_Comm comm, const Skel *sk, const Pets
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
+PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
   PetscMPIInt rank, size;
   ReadInfo   *ri;
@@ -741,7 +741,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, Scene *s, Mesh *m)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshDestroy(Mesh *m)
+PetscErrorCode MeshDestroy(M2dMesh *m)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree2(m->cellverts, m->cellbody));
@@ -750,14 +750,14 @@ PetscErrorCode MeshDestroy(Mesh *m)
   PetscFunctionReturn(0);
 }
 
-PetscInt MeshGroupDim(const Mesh *m, const char *name)
+PetscInt MeshGroupDim(const M2dMesh *m, const char *name)
 {
   for (PetscInt g = 0; g < m->ngroup; g++)
     if (!strcmp(m->group[g], name)) return m->groupdim[g];
   return -1;
 }
 
-PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *option, IS *is)
+PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is)
 {
   char    lname[M2D_NAME_LEN + 8];
   DMLabel label;
@@ -771,7 +771,7 @@ PetscErrorCode MeshGetGroupIS(const Mesh *m, const char *name, const char *optio
   PetscFunctionReturn(0);
 }
 
-void MeshCellCoordinates(const Mesh *m, const PetscScalar *a, PetscSection csec, PetscInt c, PetscReal xy[8])
+void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *a, PetscSection csec, PetscInt c, PetscReal xy[8])
 {
   for (PetscInt k = 0; k < 4; k++) {
     PetscInt off;
@@ -784,7 +784,7 @@ void MeshCellCoordinates(const Mesh *m, const PetscScalar *a, PetscSection csec,
 /* K with an exact preallocation from the cell -> vertex lists (2 dofs per
  * vertex). Rows of vertices shared with another rank also receive that rank's
  * cells: their counts add the other rank's (over-estimates, never under). */
-PetscErrorCode MeshCreateMatrix(const Mesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K)
+PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K)
 {
   MPI_Comm               comm = PetscObjectComm((PetscObject)m->dm);
   PetscSection           gsec;

@@ -4,14 +4,14 @@
 static const PetscReal gp[2] = {-0.57735026918962576451, 0.57735026918962576451};
 
 /* parameter in [-1, 1] of the projection of point p along the normal of mortar edge me */
-static PetscReal MortarParam(const Surface *m, PetscInt me, const PetscReal p[2])
+static PetscReal MortarParam(const M2dSurface *m, PetscInt me, const PetscReal p[2])
 {
   const PetscReal *a = &m->x[2 * m->edge[2 * me]], *b = &m->x[2 * m->edge[2 * me + 1]];
   PetscReal        t[2] = {b[0] - a[0], b[1] - a[1]};
   return 2 * ((p[0] - a[0]) * t[0] + (p[1] - a[1]) * t[1]) / (t[0] * t[0] + t[1] * t[1]) - 1;
 }
 
-static void EdgePoint(const Surface *s, PetscInt e, PetscReal z, PetscReal p[2])
+static void EdgePoint(const M2dSurface *s, PetscInt e, PetscReal z, PetscReal p[2])
 {
   const PetscReal *a = &s->x[2 * s->edge[2 * e]], *b = &s->x[2 * s->edge[2 * e + 1]];
   p[0]               = 0.5 * (1 - z) * a[0] + 0.5 * (1 + z) * b[0];
@@ -19,7 +19,7 @@ static void EdgePoint(const Surface *s, PetscInt e, PetscReal z, PetscReal p[2])
 }
 
 /* signed gap along the mortar normal between the non-mortar point at zeta and its projection */
-static PetscReal SegmentGap(const Surface *nm, const Surface *m, PetscInt ne, PetscInt me, PetscReal zeta)
+static PetscReal SegmentGap(const M2dSurface *nm, const M2dSurface *m, PetscInt ne, PetscInt me, PetscReal zeta)
 {
   PetscReal p[2], q[2];
   EdgePoint(nm, ne, zeta, p);
@@ -27,7 +27,7 @@ static PetscReal SegmentGap(const Surface *nm, const Surface *m, PetscInt ne, Pe
   return (p[0] - q[0]) * m->normal[2 * me] + (p[1] - q[1]) * m->normal[2 * me + 1];
 }
 
-PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscReal reach, SegmentSet *S)
+PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dSegmentSet *S)
 {
   PetscInt cap = 4 * (nm->nedge + m->nedge) + 16;
 
@@ -44,7 +44,7 @@ PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscRea
     for (PetscInt f = 0; f < m->nedge; f++) {
       const PetscReal *c = &m->x[2 * m->edge[2 * f]], *d = &m->x[2 * m->edge[2 * f + 1]];
       PetscReal        xa, xb, lo, hi, za, zb, g0, g1;
-      Segment         *s;
+      M2dSegment         *s;
       /* bounding boxes, then facing normals */
       if (PetscMax(c[0], d[0]) < elo[0] || PetscMin(c[0], d[0]) > ehi[0] || PetscMax(c[1], d[1]) < elo[1] || PetscMin(c[1], d[1]) > ehi[1]) continue;
       if (nm->normal[2 * e] * m->normal[2 * f] + nm->normal[2 * e + 1] * m->normal[2 * f + 1] >= 0) continue;
@@ -69,7 +69,7 @@ PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscRea
       g1 = SegmentGap(nm, m, e, f, zb);
       if (PetscMin(g0, g1) > reach || PetscMax(g0, g1) < -reach) continue;
       if (S->nseg == cap) {
-        Segment *t;
+        M2dSegment *t;
         cap *= 2;
         PetscCall(PetscMalloc1(cap, &t));
         PetscCall(PetscArraycpy(t, S->seg, S->nseg));
@@ -93,7 +93,7 @@ PetscErrorCode MortarBuildSegments(const Surface *nm, const Surface *m, PetscRea
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SegmentSetDestroy(SegmentSet *S)
+PetscErrorCode SegmentSetDestroy(M2dSegmentSet *S)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree(S->seg));
@@ -101,7 +101,7 @@ PetscErrorCode SegmentSetDestroy(SegmentSet *S)
   PetscFunctionReturn(0);
 }
 
-void MortarSegmentDM(const Surface *nm, const Segment *s, MortarBasis basis, PetscReal D[4], PetscReal M[4])
+void MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMortarBasis basis, PetscReal D[4], PetscReal M[4])
 {
   const PetscReal L = nm->len[s->nm_edge], h = 0.5 * (s->zeta[1] - s->zeta[0]);
   for (int k = 0; k < 4; k++) D[k] = M[k] = 0;
@@ -110,8 +110,8 @@ void MortarSegmentDM(const Surface *nm, const Segment *s, MortarBasis basis, Pet
     PetscReal xi = s->xi[0] + (s->xi[1] - s->xi[0]) * (z - s->zeta[0]) / (s->zeta[1] - s->zeta[0]);
     PetscReal w  = h * 0.5 * L; /* Gauss weight 1, d zeta -> da = L/2 d zeta */
     PetscReal N[2] = {0.5 * (1 - z), 0.5 * (1 + z)}, Nm[2] = {0.5 * (1 - xi), 0.5 * (1 + xi)}, Phi[2];
-    Phi[0] = basis == MORTAR_DUAL ? 2 * N[0] - N[1] : N[0];
-    Phi[1] = basis == MORTAR_DUAL ? 2 * N[1] - N[0] : N[1];
+    Phi[0] = basis == M2D_MORTAR_DUAL ? 2 * N[0] - N[1] : N[0];
+    Phi[1] = basis == M2D_MORTAR_DUAL ? 2 * N[1] - N[0] : N[1];
     for (int i = 0; i < 2; i++)
       for (int j = 0; j < 2; j++) {
         D[2 * i + j] += w * Phi[i] * N[j];
@@ -152,7 +152,7 @@ static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
 }
 
 /* add coefficient c times the normal n at node i of surface s */
-static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const Surface *s, PetscInt i, PetscReal c, const PetscReal n[2])
+static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const M2dSurface *s, PetscInt i, PetscReal c, const PetscReal n[2])
 {
   PetscFunctionBeginUser;
   PetscCall(RowAdd(r, s->gdof[i], c * n[0]));
@@ -162,7 +162,7 @@ static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const Surface *s, Pet
 }
 
 /* compress the accumulators of the kept nodes into R */
-static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g0, const PetscReal *w, const PetscBool *keep, ContactRows *R)
+static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g0, const PetscReal *w, const PetscBool *keep, M2dContactRows *R)
 {
   PetscInt nnz = 0, k = 0;
 
@@ -193,7 +193,7 @@ static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet *S, MortarBasis basis, ContactRows *R)
+PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R)
 {
   RowAcc    *acc;
   PetscReal *g0, *w;
@@ -203,7 +203,7 @@ PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet 
   PetscCall(PetscCalloc1(nm->nnode + 1, &acc));
   PetscCall(PetscCalloc3(nm->nnode + 1, &g0, nm->nnode + 1, &w, nm->nnode + 1, &keep));
   for (PetscInt k = 0; k < S->nseg; k++) {
-    const Segment   *s = &S->seg[k];
+    const M2dSegment   *s = &S->seg[k];
     const PetscReal *n = &m->normal[2 * s->m_edge];
     const PetscInt  *en = &nm->edge[2 * s->nm_edge], *em = &m->edge[2 * s->m_edge];
     PetscReal        D[4], M[4];
@@ -228,7 +228,7 @@ PetscErrorCode MortarRows(const Surface *nm, const Surface *m, const SegmentSet 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, ContactRows *R)
+PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R)
 {
   RowAcc    *acc;
   PetscReal *g0, *w;
@@ -274,7 +274,7 @@ PetscErrorCode NTSRows(const Surface *nm, const Surface *m, PetscReal reach, Con
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactRowsDestroy(ContactRows *R)
+PetscErrorCode ContactRowsDestroy(M2dContactRows *R)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree4(R->node, R->ptr, R->g0, R->w));

@@ -35,7 +35,7 @@ static PetscErrorCode GatherVec(Vec v, VecScatter sc, Vec seq, PetscInt nv, Pets
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Gather(const Mesh *m, const FieldSet *fs, Gathered *g)
+static PetscErrorCode Gather(const M2dMesh *m, const M2dFieldSet *fs, Gathered *g)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt        rank, size, nloc, *counts = NULL, *displs = NULL;
@@ -157,7 +157,7 @@ static void VtuBlock(FILE *fp, const void *data, uint64_t bytes)
   if (bytes) fwrite(data, 1, (size_t)bytes, fp);
 }
 
-static PetscErrorCode WriteVTU(const char *path, const Gathered *g, const FieldSet *fs)
+static PetscErrorCode WriteVTU(const char *path, const Gathered *g, const M2dFieldSet *fs)
 {
   M2dFile  f;
   FILE    *fp;
@@ -224,7 +224,7 @@ static herr_t H5Write(hid_t file, const char *name, hid_t type, int rank, hsize_
   return st;
 }
 
-static PetscErrorCode WriteHDF5(const char *h5path, const char *xmfpath, const char *h5base, const Gathered *g, const FieldSet *fs)
+static PetscErrorCode WriteHDF5(const char *h5path, const char *xmfpath, const char *h5base, const Gathered *g, const M2dFieldSet *fs)
 {
   char    tmp[PETSC_MAX_PATH_LEN + 32];
   hid_t   file;
@@ -277,7 +277,7 @@ static PetscErrorCode WriteHDF5(const char *h5path, const char *xmfpath, const c
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputWrite(const Mesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const FieldSet *fs)
+PetscErrorCode OutputWrite(const M2dMesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs)
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt    rank;
@@ -309,7 +309,7 @@ PetscErrorCode OutputWrite(const Mesh *m, const char *dir, const char *name, Pet
 }
 
 /* ---------- summary ---------- */
-static void SummaryAdd(Summary *s, const char *section, const char *key, const char *text)
+static void SummaryAdd(M2dSummary *s, const char *section, const char *key, const char *text)
 {
   PetscInt i;
   for (i = 0; i < s->n; i++)
@@ -323,7 +323,7 @@ static void SummaryAdd(Summary *s, const char *section, const char *key, const c
   snprintf(s->value[i], sizeof(s->value[i]), "%s", text);
 }
 
-void SummaryReal(Summary *s, const char *section, const char *key, PetscReal v)
+void SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v)
 {
   char t[64];
   if (PetscIsInfOrNanReal(v)) snprintf(t, sizeof(t), "null");
@@ -331,14 +331,14 @@ void SummaryReal(Summary *s, const char *section, const char *key, PetscReal v)
   SummaryAdd(s, section, key, t);
 }
 
-void SummaryInt(Summary *s, const char *section, const char *key, PetscInt v)
+void SummaryInt(M2dSummary *s, const char *section, const char *key, PetscInt v)
 {
   char t[64];
   snprintf(t, sizeof(t), "%lld", (long long)v);
   SummaryAdd(s, section, key, t);
 }
 
-void SummaryString(Summary *s, const char *section, const char *key, const char *v)
+void SummaryString(M2dSummary *s, const char *section, const char *key, const char *v)
 {
   char   t[256];
   size_t k = 0;
@@ -352,7 +352,7 @@ void SummaryString(Summary *s, const char *section, const char *key, const char 
   SummaryAdd(s, section, key, t);
 }
 
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const Summary *s)
+PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s)
 {
   PetscMPIInt    rank;
   PetscErrorCode ierr = 0;

@@ -92,7 +92,7 @@ static PetscErrorCode FreeList(char **e, PetscInt n)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
+PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
 {
   char     *mesh[3]   = {NULL, NULL, NULL};
   char     *bodies[M2D_MAX_BODIES + 1];
@@ -138,9 +138,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   }
   {
     const char *const planes[] = {"strain", "stress"}; /* order of PlaneMode */
-    PetscInt          k        = PLANE_STRAIN;
+    PetscInt          k        = M2D_PLANE_STRAIN;
     PetscCall(OptionsChoice(PetscOptionsObject, "-plane", "plane strain or plane stress: strain|stress", planes, 2, &k));
-    s->plane = (PlaneMode)k;
+    s->plane = (M2dPlane)k;
   }
 
   {
@@ -155,7 +155,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   for (PetscInt i = 0; i < ndir; i++) {
     char        *f[4], buf[256];
     int          nf;
-    DirichletBC *bc = &s->dir[s->ndir++];
+    M2dDirichlet *bc = &s->dir[s->ndir++];
     PetscCall(PetscStrncpy(buf, dir[i], sizeof(buf)));
     nf = Split(buf, f, 3);
     PetscCheck(nf == 2 || nf == 3, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s' is not GROUP:x|y|xy[:VALUE]", dir[i]);
@@ -172,7 +172,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   }
   for (PetscInt i = 0; i < npres; i++) {
     char     *f[5], buf[256];
-    EdgeLoad *l = &s->load[s->nload++];
+    M2dEdgeLoad *l = &s->load[s->nload++];
     PetscCall(PetscStrncpy(buf, pres[i], sizeof(buf)));
     int   nf;
     nf = Split(buf, f, 4);
@@ -187,7 +187,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   }
   for (PetscInt i = 0; i < ntrac; i++) {
     char     *f[4], buf[256];
-    EdgeLoad *l;
+    M2dEdgeLoad *l;
     PetscCheck(s->nload < M2D_MAX_BC, comm, PETSC_ERR_USER_INPUT, "options -pressure and -traction: at most %d loads", M2D_MAX_BC);
     l = &s->load[s->nload++];
     PetscCall(PetscStrncpy(buf, trac[i], sizeof(buf)));
@@ -202,9 +202,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
 
   {
     const char *const exact[] = {"none", "uniform", "mms"}; /* order of ExactKind */
-    PetscInt          k       = EXACT_NONE;
+    PetscInt          k       = M2D_EXACT_NONE;
     PetscCall(OptionsChoice(PetscOptionsObject, "-exact", "exact solution to compare with: none|uniform|mms (uniform: sigma_yy = -p of the first -pressure, sigma_xx = sigma_xy = 0)", exact, 3, &k));
-    s->exact = (ExactKind)k;
+    s->exact = (M2dExact)k;
   }
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-exact_p", "exact -sigma_yy for -exact uniform (<= 0: the first -pressure)", s->exact_p, &s->exact_p));
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", s->mms_amplitude, &s->mms_amplitude));
@@ -213,9 +213,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
   {
     const char *const methods[] = {"mortar", "nts"}; /* order of ContactMethod */
-    PetscInt          k         = CONTACT_MORTAR;
+    PetscInt          k         = M2D_CONTACT_MORTAR;
     PetscCall(OptionsChoice(PetscOptionsObject, "-contact_method", "contact discretisation: mortar|nts", methods, 2, &k));
-    s->method = (ContactMethod)k;
+    s->method = (M2dContactMethod)k;
   }
   s->unilateral      = PETSC_TRUE;
   s->contact_monitor = PETSC_TRUE;
@@ -241,9 +241,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
   {
     const char *const mats[] = {"aij", "nest"}; /* order of KKTMatType */
-    PetscInt          k      = KKT_AIJ;
+    PetscInt          k      = M2D_KKT_AIJ;
     PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
-    s->kkt_mat = (KKTMatType)k;
+    s->kkt_mat = (M2dKKTMat)k;
   }
   {
     const char *const paths[] = {"full", "condensed"};
@@ -277,7 +277,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsBool("-output_hdf5", "write NAME.h5 and NAME.xmf", "", s->write_hdf5, &s->write_hdf5, NULL));
   PetscCall(PetscOptionsString("-summary", "write a JSON summary of the run to this file (empty: none)", "", s->summary, s->summary, sizeof(s->summary), NULL));
   PetscOptionsEnd();
-  if (s->exact == EXACT_UNIFORM && s->exact_p <= 0) {
+  if (s->exact == M2D_EXACT_UNIFORM && s->exact_p <= 0) {
     PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a -pressure load (its value is the exact -sigma_yy)");
     s->exact_p = s->load[0].p;
   }
@@ -287,7 +287,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, Scene *s)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s)
+PetscErrorCode SceneReadMaterials(MPI_Comm comm, M2dScene *s)
 {
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < s->nbody; b++) {
@@ -308,10 +308,10 @@ PetscErrorCode SceneReadMaterials(MPI_Comm comm, Scene *s)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneView(MPI_Comm comm, const Scene *s)
+PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
+  PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == M2D_PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
   for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
   PetscCall(PetscPrintf(comm, "\n"));
   PetscFunctionReturn(0);

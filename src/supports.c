@@ -26,7 +26,7 @@ static void AddRow(PetscReal *G, PetscInt n, const PetscReal *g)
     for (PetscInt j = 0; j < n; j++) G[i * n + j] += g[i] * g[j] / nrm;
 }
 
-PetscErrorCode CheckRigidModes(const Mesh *m, const Scene *s, const Contact *ct, PetscInt ndir, const PetscInt drows[])
+PetscErrorCode CheckRigidModes(const M2dMesh *m, const M2dScene *s, const M2dContact *ct, PetscInt ndir, const PetscInt drows[])
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt        rank;
@@ -98,7 +98,7 @@ PetscErrorCode CheckRigidModes(const Mesh *m, const Scene *s, const Contact *ct,
   PetscCall(PetscFree(vbody));
   /* contact rows: every rank holds them all, rank 0 adds them */
   if (ct && rank == 0) {
-    const Surface *sf[2] = {&ct->nm, &ct->m};
+    const M2dSurface *sf[2] = {&ct->nm, &ct->m};
     for (PetscInt j = 0; j < ct->R.n; j++) {
       PetscReal g[MAXM] = {0};
       for (PetscInt k = ct->R.ptr[j]; k < ct->R.ptr[j + 1]; k++) {

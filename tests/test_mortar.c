@@ -10,14 +10,14 @@
 #include "check.h"
 
 /* value of row j at global dof col (0 if absent) */
-static PetscReal RowVal(const ContactRows *R, PetscInt j, PetscInt col)
+static PetscReal RowVal(const M2dContactRows *R, PetscInt j, PetscInt col)
 {
   for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++)
     if (R->col[k] == col) return R->val[k];
   return 0;
 }
 
-static PetscInt RowOfNode(const ContactRows *R, PetscInt node)
+static PetscInt RowOfNode(const M2dContactRows *R, PetscInt node)
 {
   for (PetscInt j = 0; j < R->n; j++)
     if (R->node[j] == node) return j;
@@ -29,7 +29,7 @@ static PetscInt RowOfNode(const ContactRows *R, PetscInt node)
  * Mortar: lower body's top edges (1.5,0)-(0.5,0)-(-0.5,0), normal +y, gdofs 4, 2, 0.
  * Worked out by hand with N_a = x, N_b = 1 - x on [0,1]:
  *   D = [1/3 1/6; 1/6 1/3],  M_a = [1/48, 18/48, 5/48],  M_b = [5/48, 18/48, 1/48]. */
-static void TwoEdge(PetscReal theta, PetscReal tx, PetscReal ty, Surface *nm, Surface *m)
+static void TwoEdge(PetscReal theta, PetscReal tx, PetscReal ty, M2dSurface *nm, M2dSurface *m)
 {
   PetscReal      xn[4] = {1, 0, 0, 0}, xm[6] = {-0.5, 0, 0.5, 0, 1.5, 0};
   const PetscInt gn[2] = {100, 102}, gm[3] = {0, 2, 4}, en[2] = {1, 0}, em[4] = {1, 0, 2, 1};
@@ -50,15 +50,15 @@ static void TwoEdge(PetscReal theta, PetscReal tx, PetscReal ty, Surface *nm, Su
 
 int main(int argc, char **argv)
 {
-  Surface     nm, m;
-  SegmentSet  S;
-  ContactRows R, Rt;
+  M2dSurface     nm, m;
+  M2dSegmentSet  S;
+  M2dContactRows R, Rt;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   TwoEdge(0, 0, 0, &nm, &m);
   PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
   CHECK(S.nseg == 2, "two segments (%d)", (int)S.nseg);
-  PetscCall(MortarRows(&nm, &m, &S, MORTAR_STANDARD, &R));
+  PetscCall(MortarRows(&nm, &m, &S, M2D_MORTAR_STANDARD, &R));
   {
     PetscInt  ja = RowOfNode(&R, 0), jb = RowOfNode(&R, 1);
     /* rows hold D n and -M n with n = (0, 1): the y-dofs carry the numbers */
@@ -82,12 +82,12 @@ int main(int argc, char **argv)
     }
   }
   { /* translation + rotation: rows rotate with the normal, weights and gaps stay */
-    Surface    nm2, m2;
-    SegmentSet S2;
+    M2dSurface    nm2, m2;
+    M2dSegmentSet S2;
     PetscReal  th = 0.7, err = 0;
     TwoEdge(th, 3.3, -1.7, &nm2, &m2);
     PetscCall(MortarBuildSegments(&nm2, &m2, 0.1, &S2));
-    PetscCall(MortarRows(&nm2, &m2, &S2, MORTAR_STANDARD, &Rt));
+    PetscCall(MortarRows(&nm2, &m2, &S2, M2D_MORTAR_STANDARD, &Rt));
     CHECK(Rt.n == R.n && S2.nseg == S.nseg, "same segments and multipliers after a rigid motion");
     for (PetscInt j = 0; j < R.n && Rt.n == R.n; j++) {
       err = PetscMax(err, PetscAbsReal(R.w[j] - Rt.w[j]) + PetscAbsReal(Rt.g0[j]));
@@ -119,7 +119,7 @@ int main(int argc, char **argv)
     PetscCall(SurfaceCreate(4, xn, gn, 3, en, &nm));
     PetscCall(SurfaceCreate(3, xm, gm, 2, em, &m));
     PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
-    PetscCall(MortarRows(&nm, &m, &S, MORTAR_STANDARD, &R));
+    PetscCall(MortarRows(&nm, &m, &S, M2D_MORTAR_STANDARD, &R));
     for (PetscInt k = 0; k < S.nseg; k++) {
       len += 0.5 * (S.seg[k].zeta[1] - S.seg[k].zeta[0]) * nm.len[S.seg[k].nm_edge];
       finite = (PetscBool)(finite && !PetscIsInfOrNanReal(S.seg[k].zeta[0] + S.seg[k].zeta[1] + S.seg[k].xi[0] + S.seg[k].xi[1]));
@@ -134,7 +134,7 @@ int main(int argc, char **argv)
     CHECK(R.n == 3 && RowOfNode(&R, 0) < 0, "the node beyond the mortar surface gets no multiplier (%d multipliers)", (int)R.n);
     PetscCall(ContactRowsDestroy(&R));
     { /* NTS: node (0.5, 0.02) above mortar node (0.5, 0): xi = 1 on edge 0 or -1 on edge 1 */
-      ContactRows N;
+      M2dContactRows N;
       PetscInt    j;
       PetscCall(NTSRows(&nm, &m, 0.1, &N));
       j = RowOfNode(&N, 2);

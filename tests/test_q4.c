@@ -11,11 +11,11 @@ int main(int argc, char **argv)
   PetscReal       D[9], Ke[64], sym = 0, scale = 0;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  M2dMaterialMatrix(200.0, 0.3, PLANE_STRAIN, D);
+  M2dMaterialMatrix(200.0, 0.3, M2D_PLANE_STRAIN, D);
   CHECK(PetscAbsReal(D[0] - 200.0 * 0.7 / (1.3 * 0.4)) < 1e-12 && PetscAbsReal(D[8] - 200.0 / 2.6) < 1e-12, "plane strain D");
-  M2dMaterialMatrix(200.0, 0.3, PLANE_STRESS, D);
+  M2dMaterialMatrix(200.0, 0.3, M2D_PLANE_STRESS, D);
   CHECK(PetscAbsReal(D[0] - 200.0 / 0.91) < 1e-12 && PetscAbsReal(D[1] - 60.0 / 0.91) < 1e-12, "plane stress D");
-  M2dMaterialMatrix(200.0, 0.3, PLANE_STRAIN, D);
+  M2dMaterialMatrix(200.0, 0.3, M2D_PLANE_STRAIN, D);
   Q4Stiffness(xy, D, PETSC_FALSE, 0, Ke);
   for (int i = 0; i < 64; i++) scale = PetscMax(scale, PetscAbsReal(Ke[i]));
   for (int i = 0; i < 8; i++)

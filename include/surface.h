@@ -1,12 +1,12 @@
-/* interface.h - contact surfaces: the edges of a named boundary part, gathered
+/* surface.h - contact surfaces: the edges of a named boundary part, gathered
  * on every rank (the interface is one dimension lower than the mesh, so this is
  * cheap and keeps the segment search serial and simple).
  *
  * Each edge is oriented with its body on the left, so its outward unit normal
  * is (t_y, -t_x) for the unit tangent t. Nodes are identified by the global dof
  * of their u_x (u_y is the next dof). */
-#ifndef M2D_INTERFACE_H
-#define M2D_INTERFACE_H
+#ifndef M2D_SURFACE_H
+#define M2D_SURFACE_H
 #include "mesh.h"
 
 typedef struct {
@@ -20,14 +20,14 @@ typedef struct {
   PetscInt  *n2e;
   PetscReal  lo[2], hi[2]; /* bounding box */
   PetscInt   body;         /* body index of the surface's cells (-1 if unknown) */
-} Surface;
+} M2dSurface;
 
 /* Build from plain lists (used by SurfaceGather and by the unit tests). Edges
  * must already be oriented body-on-the-left. Copies the arrays. */
-PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], Surface *s);
+PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], M2dSurface *s);
 /* Gather the edges of physical curve `group` from every rank. */
-PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *option, Surface *s);
-PetscErrorCode SurfaceDestroy(Surface *s);
+PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s);
+PetscErrorCode SurfaceDestroy(M2dSurface *s);
 /* average outward normal of the edges at node i */
-void SurfaceNodeNormal(const Surface *s, PetscInt i, PetscReal n[2]);
+void SurfaceNodeNormal(const M2dSurface *s, PetscInt i, PetscReal n[2]);
 #endif

@@ -1,8 +1,8 @@
-/* interface.c - gather the contact surfaces on every rank (see interface.h). */
-#include "interface.h"
+/* surface.c - gather the contact surfaces on every rank (see surface.h). */
+#include "surface.h"
 #include <petscsf.h>
 
-PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], Surface *s)
+PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], M2dSurface *s)
 {
   PetscInt *cnt;
 
@@ -44,7 +44,7 @@ PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SurfaceDestroy(Surface *s)
+PetscErrorCode SurfaceDestroy(M2dSurface *s)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree3(s->x, s->gdof, s->edge));
@@ -54,7 +54,7 @@ PetscErrorCode SurfaceDestroy(Surface *s)
   PetscFunctionReturn(0);
 }
 
-void SurfaceNodeNormal(const Surface *s, PetscInt i, PetscReal n[2])
+void SurfaceNodeNormal(const M2dSurface *s, PetscInt i, PetscReal n[2])
 {
   PetscReal l;
   n[0] = n[1] = 0;
@@ -80,7 +80,7 @@ static int CmpDofPos(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-PetscErrorCode SurfaceGather(const Mesh *m, const char *group, const char *option, Surface *s)
+PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   IS                 is;
