@@ -9,14 +9,17 @@
  * step is one active-set update (Hueber & Wohlmuth); it stops when the active
  * set is unchanged and the residual is at tolerance. c = E* / h^2 from the
  * materials and the non-mortar edge length (unit-free decisions).
- * On the condensed path (one rank) the same iteration runs on the multipliers
- * alone (condensed.h): the SNES unknown is nu = lambda - g C u, u is recovered
- * once at the end; same active sets, same answer.
+ * On the condensed path the same iteration runs on the multipliers alone
+ * (condensed.h): the SNES unknown is nu = lambda - g C u, u is recovered once
+ * at the end; same active sets, same answer.
+ * Before each step the chosen set is checked to hold every body together with
+ * the supports (supports.h): a set that frees a body means the contact has
+ * opened and nothing holds it, which stops the run with one line.
  * Second choice, -snes_type vinewtonrsls: PETSc's reduced-space VI solver with
  * lambda >= 0 and the residual g~ on the multiplier rows. */
 #ifndef M2D_ACTIVESET_H
 #define M2D_ACTIVESET_H
-#include "contact.h"
+#include "problem.h"
 
 typedef struct {
   PetscInt  iterations; /* active-set steps (SNES iterations) */
@@ -24,14 +27,18 @@ typedef struct {
   PetscInt  cycles;
   PetscReal c;
   PetscBool vi;
-  PetscBool condensed;   /* the fast path was used */
+  PetscBool condensed;   /* the condensed path was used */
   PetscReal factor_time; /* its one factorization (seconds) */
   PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
   PetscInt  interface_unknowns;               /* separator rows + multipliers */
 } M2dActiveSetInfo;
 
-/* Solve; u and lam get the solution, active (layout of lam) the final set. */
-PetscErrorCode ActiveSetSolve(const M2dScene *s, const M2dMesh *m, M2dContact *ct, M2dKKT *kkt, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info);
-/* default complementarity parameter */
+/* Solve pb's contact problem (on the condensed path if `condensed` and the
+ * SNES type allows it, else the full path); u (layout of pb->f), lam and
+ * active (layout of pb->kkt.r) are created by the caller and receive the
+ * displacement, the multipliers (zero off the final set) and the final set.
+ * Collective. */
+PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info);
+/* default complementarity parameter E* / h^2 (reference units). Not collective. */
 PetscReal      ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct);
 #endif

@@ -4,6 +4,7 @@
 #define M2D_CONTACT_H
 #include "kkt.h"
 #include "mesh.h"
+#include "units.h"
 
 typedef struct {
   M2dSurface     nm, m;
@@ -33,5 +34,8 @@ PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResu
 /* a vector in the displacement layout: component 0 pressure, 1 gap (NaN off the interface) */
 PetscErrorCode ContactFillField(const M2dContact *c, Vec field);
 PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path);
+/* Turn the interface results and the surfaces' coordinates and weights from
+ * reference units into the user's (for the files). Not collective. */
+PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u);
 PetscErrorCode ContactDestroy(M2dContact *c);
 #endif

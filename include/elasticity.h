@@ -23,7 +23,8 @@ PetscReal M2dLambda(PetscReal E, PetscReal nu, M2dPlane plane);
 
 /* assemble K and the load vector f (edge loads, body force of the MMS) */
 PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Vec f);
-/* Dirichlet rows (global, locally owned) and their values; PetscFree2 them */
+/* Dirichlet rows (global, locally owned) and their values; the caller
+ * PetscFree()s each array. Collective. */
 PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals);
 /* Apply Dirichlet rows to K, f (symmetric elimination, u set on those rows) */
 PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);

@@ -33,7 +33,11 @@ typedef struct {
   PetscBool aij;
 } M2dKKT;
 
-PetscErrorCode KKTCreate(const M2dScene *s, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
+/* The KKT blocks of rows R on K, f (supports eliminated; ubc holds the
+ * prescribed values, drows this rank's Dirichlet rows); with `condensed` the
+ * monolithic matrix is not built (condensed.h reads the blocks). K and f are
+ * referenced, not copied. Collective. */
+PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
 /* Multiplier rows of A: active[j] != 0 gives the constraint row scale * C_j,
  * active[j] = 0 gives -(scale / c) e_j (lambda_j = 0). Rebuilds the augmented
  * block and A. `scale` turns weighted gaps into forces (see activeset.c). */

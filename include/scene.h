@@ -70,6 +70,7 @@ typedef struct {
   M2dEdgeLoad    load[M2D_MAX_BC];
   M2dExact   exact;
   PetscReal   mms_amplitude;
+  PetscReal   mms_wavenumber; /* k of u = A (sin kx cos ky, cos kx sin ky): pi, times the reference length inside (units.h) */
   /* contact pair (empty: no contact) */
   char          contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
   M2dContactMethod method;

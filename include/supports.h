@@ -1,14 +1,34 @@
-/* supports.h - is every body held? Checked before any factorization.
+/* supports.h - is every body held? Checked before any factorization and
+ * before each active-set step.
  *
  * Each body has three rigid modes (two translations, one rotation). The
- * Dirichlet rows and the contact rows (every candidate, as if all were
- * closed) act on them through the 3 nb x 3 nb Gram matrix G = sum_rows g g^T,
- * g = the row applied to the rigid modes. A zero eigenvalue of G is a rigid
- * motion that nothing resists: a body held by nothing (frictionless contact
- * resists only normal motion). */
+ * Dirichlet rows and the contact rows act on them through the 3 nb x 3 nb Gram
+ * matrix G = sum_rows g g^T / |g|^2, g = the row applied to the rigid modes. A
+ * zero eigenvalue of G is a rigid motion that nothing resists: a body held by
+ * nothing (frictionless contact resists only normal motion). The Dirichlet
+ * part is summed once (M2dSupportsCreate); the contact part, replicated on
+ * every rank, is added for each set checked, so every rank reaches the same
+ * verdict without communication. */
 #ifndef M2D_SUPPORTS_H
 #define M2D_SUPPORTS_H
 #include "contact.h"
 
-PetscErrorCode CheckRigidModes(const M2dMesh *m, const M2dScene *s, const M2dContact *ct, PetscInt ndir, const PetscInt drows[]);
+#define M2D_MAX_MODES (3 * M2D_MAX_BODIES)
+
+typedef struct {
+  PetscInt  nbody;
+  PetscReal centroid[M2D_MAX_BODIES][2];
+  PetscReal size[M2D_MAX_BODIES];                  /* scales the rotation mode */
+  PetscReal gram[M2D_MAX_MODES * M2D_MAX_MODES];    /* the Dirichlet rows' part of G */
+} M2dSupports;
+
+/* The body frames and the Dirichlet part of G from this rank's Dirichlet rows
+ * drows (global dofs). Collective on the mesh's communicator. */
+PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, PetscInt ndir, const PetscInt drows[], M2dSupports *sup);
+/* Fail with one line naming the body and the free motion if G, with the
+ * contact rows of ct selected by active (every multiplier, 1/0; NULL = every
+ * candidate; ct NULL = no contact), is singular. `when` (may be NULL) is
+ * added to the message. Collective (no communication; same verdict on every
+ * rank). */
+PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2dScene *s, const M2dContact *ct, const PetscScalar *active, const char *when);
 #endif

@@ -154,6 +154,23 @@ PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *p
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u)
+{
+  M2dSurface *sf[2] = {&c->nm, &c->m};
+
+  PetscFunctionBeginUser;
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    c->pressure[j] *= u->S;
+    c->gap[j] *= u->U;
+    c->R.w[j] *= u->L;
+  }
+  for (int d = 0; d < 2; d++) c->force[d] *= u->S * u->L;
+  c->force_n *= u->S * u->L;
+  for (int k = 0; k < 2; k++)
+    for (PetscInt i = 0; i < 2 * sf[k]->nnode; i++) sf[k]->x[i] *= u->L;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ContactDestroy(M2dContact *c)
 {
   PetscFunctionBeginUser;

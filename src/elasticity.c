@@ -138,19 +138,19 @@ void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri,
  * uses the effective lambda* = 2 lambda mu / (lambda + 2 mu)). */
 void M2dMMSDisplacement(const M2dScene *s, PetscReal x, PetscReal y, PetscReal u[2])
 {
-  const PetscReal A = s->mms_amplitude;
-  u[0]              = A * PetscSinReal(PETSC_PI * x) * PetscCosReal(PETSC_PI * y);
-  u[1]              = A * PetscCosReal(PETSC_PI * x) * PetscSinReal(PETSC_PI * y);
+  const PetscReal A = s->mms_amplitude, k = s->mms_wavenumber;
+  u[0]              = A * PetscSinReal(k * x) * PetscCosReal(k * y);
+  u[1]              = A * PetscCosReal(k * x) * PetscSinReal(k * y);
 }
 
 static void MMSBodyForce(const M2dScene *s, const M2dBody *b, PetscReal x, PetscReal y, PetscReal f[2])
 {
-  const PetscReal A = s->mms_amplitude, pi2 = PETSC_PI * PETSC_PI;
+  const PetscReal A = s->mms_amplitude, k = s->mms_wavenumber, k2 = k * k;
   PetscReal       mu = b->E / (2 * (1 + b->nu)), lam = b->E * b->nu / ((1 + b->nu) * (1 - 2 * b->nu));
-  PetscReal       sx = PetscSinReal(PETSC_PI * x), cx = PetscCosReal(PETSC_PI * x), sy = PetscSinReal(PETSC_PI * y), cy = PetscCosReal(PETSC_PI * y);
+  PetscReal       sx = PetscSinReal(k * x), cx = PetscCosReal(k * x), sy = PetscSinReal(k * y), cy = PetscCosReal(k * y);
   PetscReal       ux = A * sx * cy, uy = A * cx * sy;
-  PetscReal       ux_xx = -pi2 * ux, ux_yy = -pi2 * ux, ux_xy = -A * pi2 * cx * sy;
-  PetscReal       uy_xx = -pi2 * uy, uy_yy = -pi2 * uy, uy_xy = -A * pi2 * sx * cy;
+  PetscReal       ux_xx = -k2 * ux, ux_yy = -k2 * ux, ux_xy = -A * k2 * cx * sy;
+  PetscReal       uy_xx = -k2 * uy, uy_yy = -k2 * uy, uy_xy = -A * k2 * sx * cy;
   if (s->plane == M2D_PLANE_STRESS) lam = 2 * lam * mu / (lam + 2 * mu);
   f[0] = -(mu * (ux_xx + ux_yy) + (lam + mu) * (ux_xx + uy_xy));
   f[1] = -(mu * (uy_xx + uy_yy) + (lam + mu) * (ux_xy + uy_yy));
@@ -383,7 +383,8 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, Pets
     if (goff < 0) flag[v] = 0; /* owned by another rank, which sets it */
     cnt += (flag[v] & 1) + ((flag[v] >> 1) & 1);
   }
-  PetscCall(PetscMalloc2(cnt, rows, cnt, vals));
+  PetscCall(PetscMalloc1(cnt + 1, rows));
+  PetscCall(PetscMalloc1(cnt + 1, vals));
   PetscCall(VecGetArrayRead(cl, &ca));
   cnt = 0;
   for (PetscInt v = 0; v < nv; v++) {

@@ -36,7 +36,7 @@ static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTCreate(const M2dScene *s, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)K);
   Vec      g0, mask, fk;
@@ -112,7 +112,7 @@ PetscErrorCode KKTCreate(const M2dScene *s, const M2dContactRows *R, Mat K, Vec 
     Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->CA, kkt->Z};
     PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   }
-  if (s->kkt_mat == M2D_KKT_AIJ && s->unilateral && s->condensed && kkt->gamma > 0) kkt->A = NULL; /* condensed.c reads the blocks */
+  if (condensed) kkt->A = NULL; /* condensed.c reads the blocks */
   else if (s->kkt_mat == M2D_KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
   else {
     PetscCall(PetscObjectReference((PetscObject)kkt->nest));

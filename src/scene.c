@@ -103,6 +103,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof(*s)));
   s->mms_amplitude = 1e-3;
+  s->mms_wavenumber = PETSC_PI;
   s->write_vtu     = PETSC_TRUE;
   s->write_hdf5    = PETSC_TRUE;
   PetscCall(PetscStrncpy(s->outdir, "output", sizeof(s->outdir)));

@@ -3,9 +3,11 @@
     patch_30_1), fine and coarse side as non-mortar: mortar passes the patch
     test in all 8 runs (NTS printed, not asserted);
  2. stiffness contrast 1e6 each way (upper E = 1e15 and 1e3, lower 1e9) on S2;
- 3. nearly incompressible bodies, nu = 0.49 and 0.4999: (a) S2 patch test with
-    the default integration; (b) Hertz level 2 with -q4_integration full|sri:
-    sri within 1.5x of the nu = 0.3 error, full locks at 0.4999;
+ 3. nearly incompressible bodies, nu = 0.49 and 0.4999 in plane strain: full
+    integration is refused with one line naming -q4_integration sri (it locks:
+    Hertz level 2 at nu = 0.4999 had a pressure error of 0.667 before the
+    refusal); with sri (a) the S2 patch test passes, (b) the Hertz level 2
+    error stays within 1.5x of the nu = 0.3 error;
  4. interface inclined at 30 degrees (patch_incl30), self-equilibrated uniaxial
     stress normal to the interface, supports from the exact solution: sigma_nn
     = -p, sigma_tt = sigma_tn = 0 in both bodies, contact force p x 1;
@@ -154,10 +156,12 @@ rc, s, out, e = solve("contrast_1e15_stiff_held", S2 + ["-upper_E", "1e15", "-di
 check(s is not None and perr(s) < TOL, "upper E = 1e15 held at its top, p on the lower bottom (soft body moves): patch test (%s)" % ("%.2e" % perr(s) if s else last_error(e)))
 
 # ---------------------------------------------------------------- 3. incompressibility
-print("== 3a. nearly incompressible, S2, default integration")
+print("== 3a. nearly incompressible, S2: full integration refused (locking), sri passes the patch test")
 for nu in ("0.49", "0.4999"):
     rc, s, out, e = solve("incomp_s2_%s" % nu, S2 + ["-lower_nu", nu, "-upper_nu", nu])
-    check(s is not None and perr(s) < TOL, "S2 nu = %s: patch test (%s)" % (nu, "%.2e" % perr(s) if s else last_error(e)))
+    check(rc == 1 and "-q4_integration sri" in last_error(e) and "locks" in last_error(e), "S2 nu = %s, full: refused with one line (%s)" % (nu, last_error(e)))
+    rc, s, out, e = solve("incomp_s2_sri_%s" % nu, S2 + ["-lower_nu", nu, "-upper_nu", nu, "-q4_integration", "sri"])
+    check(s is not None and perr(s) < TOL, "S2 nu = %s, sri: patch test (%s)" % (nu, "%.2e" % perr(s) if s else last_error(e)))
 
 print("== 3b. Hertz level 2, nu = 0.3, 0.49, 0.4999, -q4_integration full|sri")
 _, hout, herr = run(["-help"], check=False)
@@ -168,27 +172,19 @@ hl2 = {}
 for integ in ("full", "sri"):
     for nu in ("0.3", "0.49", "0.4999"):
         args = H + ["-cylinder_nu", nu, "-block_nu", nu, "-q4_integration", integ]
-        tag = "hertz_%s_%s" % (integ, nu)
-        rc, s, out, e = solve(tag, args)
+        rc, s, out, e = solve("hertz_%s_%s" % (integ, nu), args)
+        if integ == "full" and nu != "0.3":
+            check(rc == 1 and "-q4_integration sri" in last_error(e), "Hertz level 2, nu = %s, full: refused with one line (%s)" % (nu, last_error(e)))
+            continue
         check(rc == 0, "Hertz level 2, nu = %s, %s: the run completes (%s)" % (nu, integ, "%d steps" % s["iterations"] if rc == 0 else last_error(e)))
-        how = ""
-        if rc != 0:
-            rc, s, out, e = solve(tag + "_rtol", args + ["-snes_rtol", "1e-8"])
-            how = " (only with -snes_rtol 1e-8, exit %d)" % rc
         hl2[(integ, nu)] = s["pressure_l2_rel"] if s else float("nan")
         if s:
-            note("nu = %-6s %-4s: pressure_l2_rel %.3e, peak/p0 %.3f, %d steps%s" % (nu, integ, s["pressure_l2_rel"], s["peak_pressure"] / s["hertz_p0"], s["iterations"], how))
-        else:
-            note("nu = %-6s %-4s: no result: %s" % (nu, integ, last_error(e)))
+            note("nu = %-6s %-4s: pressure_l2_rel %.3e, peak/p0 %.3f, %d steps" % (nu, integ, s["pressure_l2_rel"], s["peak_pressure"] / s["hertz_p0"], s["iterations"]))
 ref = hl2[("sri", "0.3")]
 note("regular case nu = 0.3: full %.3e, sri %.3e" % (hl2[("full", "0.3")], ref))
 for nu in ("0.49", "0.4999"):
     r = hl2[("sri", nu)] / ref
     check(r <= 1.5, "Hertz sri nu = %s: error %.3e = %.2f x the nu = 0.3 error (<= 1.5)" % (nu, hl2[("sri", nu)], r))
-note("full integration: nu = 0.49 error %.3e (%.1f x nu = 0.3)" % (hl2[("full", "0.49")], hl2[("full", "0.49")] / hl2[("full", "0.3")]))
-lock = hl2[("full", "0.4999")]
-check(lock > 3 * hl2[("full", "0.3")] and lock > 3 * hl2[("sri", "0.4999")],
-      "Hertz full nu = 0.4999 locks: error %.3e = %.1f x full nu = 0.3, %.1f x sri nu = 0.4999" % (lock, lock / hl2[("full", "0.3")], lock / hl2[("sri", "0.4999")]))
 
 # ---------------------------------------------------------------- 4. inclined interface
 print("== 4. interface inclined at 30 degrees, uniaxial stress normal to it")

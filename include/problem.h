@@ -1,0 +1,47 @@
+/* problem.h - one discrete problem: the mesh, the contact pair, the stiffness,
+ * the loads and supports, and (with contact) the KKT blocks, all in the
+ * reference units of units.h.
+ *
+ * Built in two stages that are also -log_view stages: ProblemCreate (Mesh:
+ * read and check the mesh, materials, units) and ProblemSetUp (Contact:
+ * surfaces, segments, rows; Assembly: K, f, supports, KKT). */
+#ifndef M2D_PROBLEM_H
+#define M2D_PROBLEM_H
+#include "supports.h"
+#include "units.h"
+
+/* how the discrete problem is solved; chosen once (solver.h) */
+typedef enum {
+  M2D_PATH_LINEAR,    /* no contact pair: K u = f */
+  M2D_PATH_TIED,      /* every candidate node held closed: one KKT solve */
+  M2D_PATH_CONDENSED, /* active set on the multipliers, K + g C^T C factored once (condensed.h) */
+  M2D_PATH_FULL       /* active set, the KKT matrix refactored at each step */
+} M2dSolverPath;
+
+typedef struct {
+  const M2dScene *user;  /* the scene in the user's units (borrowed) */
+  M2dScene        s;     /* the same in reference units */
+  M2dUnits        units;
+  M2dMesh         mesh;  /* coordinates in reference units */
+  PetscBool       has_contact;
+  M2dContact      contact;
+  Mat             K;     /* stiffness, Dirichlet rows and columns eliminated */
+  Vec             f;     /* load, Dirichlet-lifted */
+  Vec             ubc;   /* prescribed values on the Dirichlet rows, 0 elsewhere */
+  PetscInt        ndir;  /* Dirichlet rows owned by this rank */
+  PetscInt       *drows;
+  M2dSupports     supports; /* is every body held (with a given contact set)? */
+  M2dKKT          kkt;   /* with contact */
+} M2dProblem;
+
+/* Mesh stage: read the mesh of scene `user`, read the materials, check the
+ * groups the options name, pick the reference units and scale. `user` is
+ * borrowed and must outlive pb; its body list is completed from the mesh.
+ * Collective on comm. */
+PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, M2dProblem *pb);
+/* Contact and assembly stages for solver path `path` (which decides how the
+ * KKT blocks are built). Collective. */
+PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly);
+/* Frees everything pb owns. Collective. */
+PetscErrorCode ProblemDestroy(M2dProblem *pb);
+#endif

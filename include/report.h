@@ -1,0 +1,22 @@
+/* report.h - what a run tells: the interface results, the comparisons with
+ * exact answers (uniform stress, manufactured solution, Hertz), the fields
+ * for ParaView, the CSV of the interface and the JSON summary, all in the
+ * user's units. */
+#ifndef M2D_REPORT_H
+#define M2D_REPORT_H
+#include "output.h"
+#include "verify.h"
+
+/* -output_dir and -summary writable (created if missing). Collective. */
+PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s);
+/* Fill sum with the run's figures (problem, path, contact results, exact
+ * comparisons, checks v) and print them. Leaves the interface results in
+ * pb->contact in the user's units. Collective. */
+PetscErrorCode ReportCompute(M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum);
+/* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV; the mesh's
+ * coordinates are left in the user's units. Collective. */
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol);
+/* Add the stage times (logging.h order, then the total) and write the JSON
+ * summary (-summary). Collective. */
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[]);
+#endif

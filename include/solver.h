@@ -1,0 +1,32 @@
+/* solver.h - solve a problem (problem.h) on the path chosen for it.
+ *
+ * The path is chosen in one place, M2dSolverChoosePath, from the scene and the
+ * options database: no contact pair -> linear; -contact_unilateral 0 -> tied;
+ * unilateral -> condensed (default) or full (-kkt_path full, or what the
+ * condensed path cannot serve: -kkt_mat nest, -snes_type vinewtonrsls). */
+#ifndef M2D_SOLVER_H
+#define M2D_SOLVER_H
+#include "activeset.h"
+#include "problem.h"
+
+typedef struct {
+  M2dSolverPath    path;
+  Vec              u;       /* displacement (reference units) */
+  Vec              lam;     /* contact pressure per multiplier (layout of kkt.r), or NULL */
+  Vec              active;  /* final active set (1/0, layout of lam), or NULL */
+  PetscInt         ksp_its; /* iterations of the linear solve (linear and tied paths) */
+  M2dActiveSetInfo as;      /* active-set paths */
+} M2dSolution;
+
+/* The path for scene s; sets s->kkt_augment where the path needs it and says
+ * so when it overrides -kkt_path. Collective on comm (prints on rank 0). */
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *path);
+/* The one-line name of a path (summary key kkt_path). Not collective. */
+const char    *M2dSolverPathName(M2dSolverPath path);
+/* Solve pb on path; sol's vectors are created here and freed by
+ * M2dSolutionDestroy. Collective on the problem's communicator. */
+PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *sol);
+PetscErrorCode M2dSolutionDestroy(M2dSolution *sol);
+/* -help: read the linear solvers' options so that they are listed. Collective. */
+PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s);
+#endif

@@ -1,0 +1,149 @@
+/* problem.c - the mesh, contact and assembly stages (see problem.h). */
+#include "problem.h"
+#include "elasticity.h"
+#include "logging.h"
+#include "util.h"
+
+#define M2D_LOCKING_RATIO  48.5 /* lambda/mu just below nu = 0.49 (49) */
+#define M2D_ROUNDOFF_LIMIT 1e-6 /* largest stress round-off (of the load) accepted a priori */
+
+/* a physical group that exists but holds nothing would silently do nothing */
+static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const M2dMesh *m, const char *group, const char *opt)
+{
+  IS       is;
+  PetscInt n;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshGetGroupIS(m, group, opt, &is));
+  PetscCall(ISGetLocalSize(is, &n));
+  PetscCall(ISDestroy(&is));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' of mesh file(s) %s has no elements", opt, group, m->files);
+  PetscFunctionReturn(0);
+}
+
+/* every physical group the options name must exist, before any work is done */
+static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < s->ndir; i++) {
+    PetscInt d = MeshGroupDim(m, s->dir[i].group);
+    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: mesh file(s) %s have no physical group '%s'", m->files, s->dir[i].group);
+    PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: physical group '%s' is a surface; name a curve or a point", s->dir[i].group);
+    PetscCall(CheckNotEmpty(comm, m, s->dir[i].group, "-dirichlet"));
+  }
+  for (PetscInt i = 0; i < s->nload; i++) {
+    const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
+    PetscInt    d   = MeshGroupDim(m, s->load[i].group);
+    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, s->load[i].group);
+    PetscCheck(d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, s->load[i].group);
+    PetscCall(CheckNotEmpty(comm, m, s->load[i].group, opt));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Near-incompressible plane strain: Q4 with full 2x2 integration locks (the
+ * answer is wrong, not inaccurate), and whatever the integration, stresses
+ * carry round-off of order lambda/mu x machine epsilon (the volumetric part is
+ * lambda div u): beyond 1e-6 of the load the answer cannot be vouched for. */
+static PetscErrorCode CheckMaterials(MPI_Comm comm, const M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  if (s->plane != M2D_PLANE_STRAIN) PetscFunctionReturn(0);
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    PetscReal nu = s->body[b].nu, ratio = 2 * nu / (1 - 2 * nu); /* lambda / mu */
+    PetscCheck(s->sri || ratio < M2D_LOCKING_RATIO, comm, PETSC_ERR_USER_INPUT, "option -%s_nu: nu = %.17g in plane strain makes lambda/mu = %.3g: full 2x2 integration locks (volumetric locking); use -q4_integration sri", s->body[b].name, (double)nu, (double)ratio);
+    PetscCheck(ratio * PETSC_MACHINE_EPSILON < M2D_ROUNDOFF_LIMIT, comm, PETSC_ERR_USER_INPUT, "option -%s_nu: nu = %.17g in plane strain makes lambda/mu = %.3g: round-off alone puts stress errors of about %.1e of the load in a displacement formulation; use nu <= 0.4999999", s->body[b].name, (double)nu, (double)ratio, (double)(ratio * PETSC_MACHINE_EPSILON));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, M2dProblem *pb)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(pb, sizeof(*pb)));
+  pb->user = user;
+  PetscCall(MeshCreate(comm, user, &pb->mesh));
+  PetscCall(SceneReadMaterials(comm, user));
+  PetscCall(CheckMaterials(comm, user));
+  PetscCall(CheckGroups(comm, user, &pb->mesh));
+  PetscCall(M2dUnitsCreate(&pb->mesh, user, &pb->units));
+  PetscCall(M2dUnitsScaleMesh(&pb->mesh, 1.0 / pb->units.L));
+  pb->s = *user;
+  M2dUnitsScaleScene(&pb->units, &pb->s);
+  if (pb->s.hertz && pb->s.hertz_load <= 0) { /* quarter model: the full cylinder carries twice the load */
+    PetscCall(ElasticityPressureResultant(&pb->mesh, &pb->s.load[0], &pb->s.hertz_load));
+    pb->s.hertz_load *= 2;
+    PetscCheck(pb->s.hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: the load on '%s' is not a compressive force (resultant %g)", user->load[0].group, (double)(pb->s.hertz_load / 2 * pb->units.S * pb->units.L));
+  }
+  PetscCall(SceneView(comm, user));
+  PetscFunctionReturn(0);
+}
+
+/* K (with room for C^T C), f, the supports eliminated */
+static PetscErrorCode Assemble(M2dProblem *pb)
+{
+  M2dMesh     *m = &pb->mesh;
+  PetscScalar *dvals;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_PREALLOC], 0, 0, 0, 0));
+  if (pb->has_contact) PetscCall(MeshCreateMatrix(m, pb->contact.R.n, pb->contact.R.ptr, pb->contact.R.col, &pb->K));
+  else PetscCall(MeshCreateMatrix(m, 0, NULL, NULL, &pb->K));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_PREALLOC], 0, 0, 0, 0));
+  PetscCall(DMCreateGlobalVector(m->dm, &pb->f));
+  PetscCall(VecDuplicate(pb->f, &pb->ubc));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
+  PetscCall(ElasticityAssemble(m, &pb->s, pb->K, pb->f));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
+  PetscCall(ElasticityDirichletRows(m, &pb->s, &pb->ndir, &pb->drows, &dvals));
+  PetscCall(M2dSupportsCreate(m, &pb->s, pb->ndir, pb->drows, &pb->supports));
+  PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
+  PetscCall(ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals));
+  PetscCall(PetscFree(dvals));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly)
+{
+  PetscFunctionBeginUser;
+  pb->has_contact = (PetscBool)(pb->s.contact_nm[0] != 0);
+  PetscCall(PetscLogStagePush(contact_stage));
+  *t_contact = M2dWallTime();
+  if (pb->has_contact) {
+    PetscCall(ContactSetup(&pb->mesh, &pb->s, &pb->contact));
+    /* the geometric gap from scaled coordinates is g0 / L^2; in reference units it is g0 / (L U) */
+    for (PetscInt j = 0; j < pb->contact.R.n; j++) pb->contact.R.g0[j] *= pb->units.L / pb->units.U;
+  }
+  *t_contact = M2dWallTime() - *t_contact;
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(PetscLogStagePush(assembly_stage));
+  *t_assembly = M2dWallTime();
+  PetscCall(Assemble(pb));
+  if (pb->has_contact) {
+    PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
+    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->contact.R, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
+    PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
+  }
+  *t_assembly = M2dWallTime() - *t_assembly;
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProblemDestroy(M2dProblem *pb)
+{
+  PetscFunctionBeginUser;
+  if (pb->has_contact) {
+    PetscCall(ContactDestroy(&pb->contact));
+    PetscCall(KKTDestroy(&pb->kkt));
+  }
+  PetscCall(PetscFree(pb->drows));
+  PetscCall(VecDestroy(&pb->ubc));
+  PetscCall(VecDestroy(&pb->f));
+  PetscCall(MatDestroy(&pb->K));
+  PetscCall(MeshDestroy(&pb->mesh));
+  PetscFunctionReturn(0);
+}

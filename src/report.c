@@ -1,0 +1,230 @@
+/* report.c - results, comparisons with exact answers, files (see report.h). */
+#include "report.h"
+#include "elasticity.h"
+#include "logging.h"
+#include "util.h"
+#include <string.h>
+#include <sys/stat.h>
+
+/* the output directory and the summary path must be writable: checked before any work */
+PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s)
+{
+  PetscMPIInt rank;
+  char        msg[1024] = "";
+  int         bad       = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0 && (s->write_vtu || s->write_hdf5)) {
+    char why[900];
+    if (M2dMakeDirs(s->outdir, why, sizeof(why))) {
+      snprintf(msg, sizeof(msg), "option -output_dir: %s", why);
+      bad = 1;
+    }
+  }
+  if (rank == 0 && !bad && s->summary[0]) { /* the summary's directory must exist or be creatable */
+    char        dir[PETSC_MAX_PATH_LEN], why[900];
+    struct stat st;
+    char       *slash;
+    PetscCall(PetscStrncpy(dir, s->summary, sizeof(dir)));
+    slash = strrchr(dir, '/');
+    if (stat(s->summary, &st) == 0 && S_ISDIR(st.st_mode)) {
+      snprintf(msg, sizeof(msg), "option -summary: '%s' is a directory", s->summary);
+      bad = 1;
+    } else if (slash && slash != dir) {
+      *slash = 0;
+      if (M2dMakeDirs(dir, why, sizeof(why))) {
+        snprintf(msg, sizeof(msg), "option -summary: %s", why);
+        bad = 1;
+      }
+    }
+  }
+  PetscCall(M2dCheckCollective(comm, bad ? PETSC_TRUE : PETSC_FALSE, msg));
+  PetscFunctionReturn(0);
+}
+
+
+/* stress, per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises, body (user units) */
+#define M2D_CELL_FIELDS 6
+
+static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum)
+{
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pb->mesh.dm), &size));
+  SummaryString(sum, "", "program", "mortar2d");
+  SummaryInt(sum, "", "dofs", 2 * pb->mesh.nvert_global);
+  SummaryInt(sum, "", "cells", pb->mesh.ncell_global);
+  SummaryInt(sum, "", "ranks", size);
+  SummaryInt(sum, "", "bodies", pb->s.nbody);
+  SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
+  SummaryInt(sum, "", "ksp_iterations", sol->ksp_its);
+  SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
+  SummaryReal(sum, "", "residual_rel", v->residual_rel);
+  SummaryReal(sum, "", "complementarity", v->complementarity);
+  SummaryReal(sum, "", "acceptance_tol", M2D_VERIFY_TOL);
+  SummaryReal(sum, "units", "length", pb->units.L);
+  SummaryReal(sum, "units", "modulus", pb->units.E);
+  SummaryReal(sum, "units", "stress", pb->units.S);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dSummary *sum)
+{
+  M2dHertzResult h;
+  const M2dUnits *un = &pb->units;
+
+  PetscFunctionBeginUser;
+  PetscCall(ContactHertz(&pb->contact, &pb->s, &h)); /* reference units */
+  SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
+  SummaryReal(sum, "", "peak_pressure", h.peak_pressure * un->S);
+  SummaryReal(sum, "", "half_width", h.half_width * un->L);
+  SummaryReal(sum, "", "half_width_spacing", h.h_edge * un->L);
+  SummaryReal(sum, "", "hertz_a", h.a * un->L);
+  SummaryReal(sum, "", "hertz_p0", h.p0 * un->S);
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", (double)(h.a * un->L), (double)(h.half_width * un->L), (double)(h.h_edge * un->L), (double)(h.p0 * un->S),
+                        (double)(h.peak_pressure * un->S), (double)h.pressure_l2_rel));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dSummary *sum)
+{
+  M2dContact *c = &pb->contact;
+  PetscReal   na;
+
+  PetscFunctionBeginUser;
+  PetscCall(ContactResults(c, &pb->kkt, sol->u, sol->lam, sol->active));
+  if (pb->s.hertz) PetscCall(SummarizeHertz(pb, sum));
+  PetscCall(ContactToUserUnits(c, &pb->units));
+  SummaryString(sum, "", "method", pb->s.method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
+  SummaryInt(sum, "", "contact_nodes", c->R.n);
+  SummaryReal(sum, "", "contact_force", c->force_n);
+  SummaryReal(sum, "", "contact_force_x", c->force[0]);
+  SummaryReal(sum, "", "contact_force_y", c->force[1]);
+  SummaryString(sum, "", "contact_solver", sol->path == M2D_PATH_TIED ? "tied" : sol->as.vi ? "vinewtonrsls" : "pdas");
+  SummaryInt(sum, "", "iterations", sol->path == M2D_PATH_TIED ? 1 : sol->as.iterations);
+  PetscCall(VecSum(sol->active, &na));
+  SummaryInt(sum, "", "active_nodes", (PetscInt)(na + 0.5));
+  if (sol->path != M2D_PATH_TIED) SummaryReal(sum, "", "contact_c", sol->as.c * pb->units.S / (pb->units.L * pb->units.U));
+  if (sol->path == M2D_PATH_CONDENSED) {
+    SummaryReal(sum, "", "factor_flops", sol->as.factor_flops);
+    SummaryReal(sum, "", "factor_flops_max_rank", sol->as.factor_flops_max);
+    SummaryInt(sum, "", "interface_unknowns", sol->as.interface_unknowns);
+  }
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (double)c->force_n, (double)c->force[0], (double)c->force[1]));
+  PetscFunctionReturn(0);
+}
+
+/* -exact uniform: max over cells of the stress error / p (reference units: relative) */
+static PetscErrorCode SummarizeUniform(const M2dProblem *pb, const PetscReal *stress, M2dSummary *sum)
+{
+  PetscReal p = pb->s.exact_p, e[3] = {0, 0, 0};
+  PetscInt  nlc = pb->mesh.cEnd - pb->mesh.cStart;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < nlc; c++) {
+    const PetscReal *sg = &stress[M2D_CELL_FIELDS * c];
+    e[0]                = PetscMax(e[0], PetscAbsReal(sg[1] + p) / PetscAbsReal(p));
+    e[1]                = PetscMax(e[1], PetscAbsReal(sg[0]) / PetscAbsReal(p));
+    e[2]                = PetscMax(e[2], PetscAbsReal(sg[3]) / PetscAbsReal(p));
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, e, 3, MPIU_REAL, MPIU_MAX, PetscObjectComm((PetscObject)pb->mesh.dm)));
+  SummaryReal(sum, "error", "sigma_yy_max_rel", e[0]);
+  SummaryReal(sum, "error", "sigma_xx_max_rel", e[1]);
+  SummaryReal(sum, "error", "sigma_xy_max_rel", e[2]);
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "uniform stress check: max |sigma_yy + p|/p = %.3e, max |sigma_xx|/p = %.3e, max |sigma_xy|/p = %.3e\n", (double)e[0], (double)e[1], (double)e[2]));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SummarizeMMS(const M2dProblem *pb, Vec u, M2dSummary *sum)
+{
+  PetscReal err, nrm, h, area = pb->units.U * pb->units.L; /* L2 norm over the area: U x L */
+
+  PetscFunctionBeginUser;
+  PetscCall(ElasticityMMSError(&pb->mesh, &pb->s, u, &err, &nrm, &h));
+  SummaryReal(sum, "error", "u_l2", err * area);
+  SummaryReal(sum, "error", "u_l2_rel", err / nrm);
+  SummaryReal(sum, "error", "h", h * pb->units.L);
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "manufactured solution: h = %.4e, L2 displacement error = %.6e (relative %.6e)\n", (double)(h * pb->units.L), (double)(err * area), (double)(err / nrm)));
+  PetscFunctionReturn(0);
+}
+
+/* cell stresses (times `scale`) and the body index, M2D_CELL_FIELDS per local cell */
+static PetscErrorCode CellFields(const M2dProblem *pb, Vec u, PetscReal scale, PetscReal **fields)
+{
+  PetscInt   nlc = pb->mesh.cEnd - pb->mesh.cStart;
+  PetscReal *f;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(M2D_CELL_FIELDS * nlc + 1, &f));
+  PetscCall(ElasticityCellStress(&pb->mesh, &pb->s, u, f)); /* 5 per cell, packed */
+  for (PetscInt c = nlc - 1; c >= 0; c--) {
+    for (int k = 4; k >= 0; k--) f[M2D_CELL_FIELDS * c + k] = f[5 * c + k] * scale;
+    f[M2D_CELL_FIELDS * c + 5] = (PetscReal)pb->mesh.cellbody[c];
+  }
+  *fields = f;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ReportCompute(M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SummarizeProblem(pb, sol, v, sum));
+  if (pb->has_contact) PetscCall(SummarizeContact(pb, sol, sum));
+  if (pb->s.exact == M2D_EXACT_UNIFORM) {
+    PetscReal *f;
+    PetscCall(CellFields(pb, sol->u, 1.0, &f));
+    PetscCall(SummarizeUniform(pb, f, sum));
+    PetscCall(PetscFree(f));
+  } else if (pb->s.exact == M2D_EXACT_MMS) PetscCall(SummarizeMMS(pb, sol->u, sum));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol)
+{
+  const M2dScene *s    = pb->user;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  PetscReal      *cells;
+  Vec             u, cfield = NULL;
+  M2dFieldSet     fs;
+  const char     *cname[M2D_CELL_FIELDS] = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+
+  PetscFunctionBeginUser;
+  PetscCall(CellFields(pb, sol->u, pb->units.S, &cells));
+  PetscCall(VecDuplicate(sol->u, &u));
+  PetscCall(VecAXPY(u, pb->units.U, sol->u));
+  PetscCall(M2dUnitsScaleMesh(&pb->mesh, pb->units.L)); /* the files hold the user's coordinates */
+  PetscCall(PetscMemzero(&fs, sizeof(fs)));
+  fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0};
+  if (pb->has_contact) {
+    PetscCall(VecDuplicate(u, &cfield));
+    PetscCall(ContactFillField(&pb->contact, cfield));
+    fs.point[fs.npoint++] = (M2dPointField){"contact_pressure", cfield, PETSC_FALSE, 0};
+    fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1};
+  }
+  for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
+  if (pb->has_contact && (s->write_vtu || s->write_hdf5)) {
+    char csv[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscSNPrintf(csv, sizeof(csv), "%s/%s_contact.csv", s->outdir, s->outname));
+    PetscCall(ContactWriteCSV(comm, &pb->contact, csv));
+  }
+  PetscCall(OutputWrite(&pb->mesh, s->outdir, s->outname, s->write_vtu, s->write_hdf5, &fs));
+  if (s->write_vtu || s->write_hdf5) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s->outdir, s->outname, s->write_hdf5 ? "h5,xmf" : "", s->write_hdf5 && s->write_vtu ? "," : "", s->write_vtu ? "vtu" : ""));
+  PetscCall(VecDestroy(&cfield));
+  PetscCall(VecDestroy(&u));
+  PetscCall(PetscFree(cells));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[])
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+
+  PetscFunctionBeginUser;
+  for (int k = 0; k < M2D_STAGE_COUNT; k++) SummaryReal(sum, "time", M2dStageName[k], times[k]);
+  SummaryReal(sum, "time", "total", times[M2D_STAGE_COUNT]);
+  PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, contact %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * pb->mesh.nvert_global, times[0], times[1], times[2], times[3], times[4], times[5]));
+  PetscCall(SummaryWrite(comm, pb->user->summary, sum));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,138 @@
+/* solver.c - the solver path and the linear solves (see solver.h). */
+#include "solver.h"
+#include <petscsnes.h>
+#include <string.h>
+
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *path)
+{
+  char      st[64];
+  PetscBool set, vi;
+
+  PetscFunctionBeginUser;
+  if (!s->contact_nm[0]) *path = M2D_PATH_LINEAR;
+  else if (!s->unilateral) *path = M2D_PATH_TIED;
+  else if (!s->condensed) *path = M2D_PATH_FULL;
+  else {
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
+    vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
+    if (s->kkt_mat == M2D_KKT_NEST || vi) {
+      *path = M2D_PATH_FULL;
+      PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
+    } else {
+      *path = M2D_PATH_CONDENSED;
+      if (s->kkt_augment == 0) s->kkt_augment = 1.0; /* the condensed path factors K + g C^T C */
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+const char *M2dSolverPathName(M2dSolverPath path)
+{
+  static const char *name[] = {"linear", "tied", "condensed", "full"};
+  return name[path];
+}
+
+/* Linear solves (no contact, or tied) default to MUMPS LDL^T (PCCHOLESKY):
+ * the matrix is symmetric, as on the condensed path. PETSc 3.18 hands MUMPS no
+ * ordering for a Cholesky factor: MUMPS orders with AMF unless
+ * -mat_mumps_icntl_7 says otherwise; the METIS ordering applies to
+ * -pc_type lu on one rank. Every choice can be overridden from the options
+ * database. */
+static PetscErrorCode SetupLinearKSP(KSP ksp, M2dOrdering ord)
+{
+  PC            pc;
+  PetscBool     factor, chosen, given, metis;
+  MatSolverType st;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCCHOLESKY));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(KSPSetFromOptions(ksp));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-pc_factor_mat_solver_type", &chosen));
+  if (factor && !chosen) PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS)); /* -pc_type lu alone: still MUMPS */
+  PetscCall(M2dOrderingSetupKSP(ksp, ord, &metis));
+  /* through the options database: PETSc 3.18 re-initialises MUMPS at the symbolic factorization */
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-mat_mumps_icntl_7", &given));
+  if (factor && !metis && !given) {
+    PetscCall(PCFactorGetMatSolverType(pc, &st));
+    if (st && !strcmp(st, MATSOLVERMUMPS)) PetscCall(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_7", "2"));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the one line for a failed linear solve */
+static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal augment)
+{
+  KSPConvergedReason reason;
+  PetscBool          fs;
+  PC                 pc;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)ksp);
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  if (reason > 0) PetscFunctionReturn(0);
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+  PetscCheck(!(fs && contact && augment == 0), comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed (%s): the fieldsplit K block cannot be factored when a body is held only by contact; add -kkt_augment 1 or use the monolithic solver (options/kkt_mumps.opts)", KSPConvergedReasons[reason]);
+  SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
+}
+
+/* no contact, or every candidate held closed: one linear solve */
+static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
+{
+  KSP      ksp;
+  PetscBool contact = (PetscBool)(sol->path == M2D_PATH_TIED);
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPCreate(PetscObjectComm((PetscObject)pb->K), &ksp));
+  PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
+  PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
+  if (contact) {
+    PetscCall(KKTSetupKSP(&pb->kkt, ksp));
+    PetscCall(KKTSolve(&pb->kkt, ksp, sol->u, sol->lam));
+    PetscCall(VecSet(sol->active, 1.0));
+  } else PetscCall(KSPSolve(ksp, pb->f, sol->u));
+  PetscCall(LinearSolveFailed(ksp, contact, pb->s.kkt_augment));
+  PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
+  PetscCall(KSPDestroy(&ksp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *sol)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(sol, sizeof(*sol)));
+  sol->path = path;
+  PetscCall(VecDuplicate(pb->f, &sol->u));
+  PetscCall(PetscObjectSetName((PetscObject)sol->u, "displacement"));
+  if (pb->has_contact) {
+    PetscCall(VecDuplicate(pb->kkt.r, &sol->lam));
+    PetscCall(VecDuplicate(pb->kkt.r, &sol->active));
+  }
+  if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) PetscCall(SolveLinear(pb, sol));
+  else PetscCall(ActiveSetSolve(pb, path == M2D_PATH_CONDENSED, sol->u, sol->lam, sol->active, &sol->as));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPCreate(comm, &ksp));
+  PetscCall(SetupLinearKSP(ksp, s->kkt_ordering));
+  PetscCall(KSPDestroy(&ksp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&sol->u));
+  PetscCall(VecDestroy(&sol->lam));
+  PetscCall(VecDestroy(&sol->active));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,115 @@
+/* units.c - reference units (see units.h). */
+#include "units.h"
+
+/* the power of two nearest to v > 0 (scaling by it is exact) */
+static PetscReal Pow2(PetscReal v)
+{
+  return PetscPowReal(2.0, PetscFloorReal(PetscLog2Real(v) + 0.5));
+}
+
+/* bounding box of the local vertices, reduced over the ranks */
+static PetscErrorCode BoundingBox(const M2dMesh *m, PetscReal lo[2], PetscReal hi[2])
+{
+  Vec                cl;
+  const PetscScalar *ca;
+  PetscInt           n;
+  PetscReal          box[4] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL};
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(VecGetLocalSize(cl, &n));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  for (PetscInt i = 0; i < n; i += 2)
+    for (int d = 0; d < 2; d++) {
+      box[d]     = PetscMin(box[d], PetscRealPart(ca[i + d]));
+      box[2 + d] = PetscMin(box[2 + d], -PetscRealPart(ca[i + d]));
+    }
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, box, 4, MPIU_REAL, MPI_MIN, PetscObjectComm((PetscObject)m->dm)));
+  for (int d = 0; d < 2; d++) {
+    lo[d] = box[d];
+    hi[d] = -box[2 + d];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the largest load stress over the box: |P + G.x| at its corners, |t| */
+static PetscReal LoadStress(const M2dScene *s, const PetscReal lo[2], const PetscReal hi[2])
+{
+  PetscReal S = 0;
+  for (PetscInt l = 0; l < s->nload; l++) {
+    const M2dEdgeLoad *ld = &s->load[l];
+    if (!ld->is_pressure) {
+      S = PetscMax(S, PetscSqrtReal(PetscSqr(ld->t[0]) + PetscSqr(ld->t[1])));
+      continue;
+    }
+    for (int k = 0; k < 4; k++) {
+      PetscReal x = k % 2 ? hi[0] : lo[0], y = k / 2 ? hi[1] : lo[1];
+      S           = PetscMax(S, PetscAbsReal(ld->p + ld->grad[0] * x + ld->grad[1] * y));
+    }
+  }
+  return S;
+}
+
+PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u)
+{
+  PetscReal lo[2], hi[2], L, E = 0, S, V = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BoundingBox(m, lo, hi));
+  L = PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1]));
+  PetscCheck(L > 0 && PetscIsNormalReal(L), PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "mesh file(s) %s: the bodies have no extent (bounding-box diagonal %g)", m->files, (double)L);
+  for (PetscInt b = 0; b < s->nbody; b++) E = PetscMax(E, s->body[b].E);
+  for (PetscInt k = 0; k < s->ndir; k++) V = PetscMax(V, PetscMax(PetscAbsReal(s->dir[k].value[0]), PetscAbsReal(s->dir[k].value[1])));
+  S = LoadStress(s, lo, hi);
+  if (!(S > 0) && s->exact == M2D_EXACT_MMS) S = E * PetscAbsReal(s->mms_amplitude) / L;
+  if (!(S > 0)) S = E * V / L;
+  if (!(S > 0) || !PetscIsNormalReal(S)) S = E;
+  u->L = Pow2(L);
+  u->E = Pow2(E);
+  u->S = Pow2(S);
+  u->U = u->S * u->L / u->E; /* powers of two: exact */
+  PetscCall(PetscInfo(NULL, "reference units: length %g, modulus %g, stress %g, displacement %g\n", (double)u->L, (double)u->E, (double)u->S, (double)u->U));
+  PetscFunctionReturn(0);
+}
+
+void M2dUnitsIdentity(M2dUnits *u)
+{
+  u->L = u->E = u->S = u->U = 1.0;
+}
+
+void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s)
+{
+  for (PetscInt b = 0; b < s->nbody; b++) s->body[b].E /= u->E;
+  for (PetscInt l = 0; l < s->nload; l++) { /* p + G.x with x = L x': G' = G L / S */
+    M2dEdgeLoad *ld = &s->load[l];
+    ld->p /= u->S;
+    for (int d = 0; d < 2; d++) {
+      ld->grad[d] *= u->L / u->S;
+      ld->t[d] /= u->S;
+    }
+  }
+  for (PetscInt k = 0; k < s->ndir; k++)
+    for (int d = 0; d < 2; d++) s->dir[k].value[d] /= u->U;
+  if (s->reach > 0) s->reach /= u->L;
+  if (s->contact_c > 0) s->contact_c *= u->L * u->U / u->S; /* lambda / c is a weighted gap (length x displacement) */
+  s->hertz_radius *= u->U / (u->L * u->L); /* the radius enters Hertz as the gap x^2/2R: a displacement over a length^2 */
+  if (s->hertz_load > 0) s->hertz_load /= u->S * u->L;
+  if (s->exact_p > 0) s->exact_p /= u->S;
+  s->mms_amplitude /= u->U;
+  s->mms_wavenumber *= u->L;
+}
+
+PetscErrorCode M2dUnitsScaleMesh(M2dMesh *m, PetscReal factor)
+{
+  Vec cg, cl;
+
+  PetscFunctionBeginUser;
+  if (factor == 1.0) PetscFunctionReturn(0);
+  /* both exist before either is scaled: one may be created from the other on demand */
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinates(m->dm, &cg));
+  PetscCall(VecScale(cl, factor));
+  PetscCall(VecScale(cg, factor));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""Sizes of the C sources: the longest functions and the longest files.
+
+    python3 tools/code_size.py [--top N] [--max-lines 80]
+
+A function is counted from the line of its name to its closing brace at column
+0 (the layout clang-format gives this code). Prints the N longest functions and
+files, and every function over --max-lines; exit code 0 always (a report)."""
+import argparse
+import glob
+import os
+import re
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--top", type=int, default=8)
+ap.add_argument("--max-lines", type=int, default=80)
+args = ap.parse_args()
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+head = re.compile(r"^(?:static\s+)?(?:inline\s+)?[A-Za-z_][\w\s\*]*?\b(\w+)\s*\([^;]*$")
+funcs, files = [], []
+for path in sorted(glob.glob(os.path.join(root, "src", "*.c"))):
+    lines = open(path).read().split("\n")
+    files.append((len(lines) - 1, os.path.relpath(path, root)))
+    start = name = None
+    for i, line in enumerate(lines):
+        m = head.match(line)
+        if m and start is None and not line.startswith(" ") and not line.rstrip().endswith(";"):
+            start, name = i, m.group(1)
+        elif start is not None and line.startswith("}"):
+            funcs.append((i - start + 1, "%s:%s" % (os.path.relpath(path, root), name)))
+            start = None
+funcs.sort(reverse=True)
+files.sort(reverse=True)
+print("longest functions (lines):")
+for n, f in funcs[: args.top]:
+    print("  %4d  %s" % (n, f))
+print("longest files (lines):")
+for n, f in files[: args.top]:
+    print("  %4d  %s" % (n, f))
+over = [f for n, f in funcs if n > args.max_lines]
+print("functions over %d lines: %d%s" % (args.max_lines, len(over), (" (" + ", ".join(over) + ")") if over else ""))
