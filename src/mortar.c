@@ -151,13 +151,18 @@ static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
   PetscFunctionReturn(0);
 }
 
-/* add coefficient c times the normal n at node i of surface s */
-static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const M2dSurface *s, PetscInt i, PetscReal c, const PetscReal n[2])
+/* add coefficient c times the normal n at node i of surface s. The row's
+ * coefficients sum to zero (sum_k D_jk = sum_l M_jl, both the integral of the
+ * multiplier's basis function over the segments; NTS: a_s (1 - N_1 - N_2)),
+ * so the gap may be taken relative to any point: relative to the row's own
+ * node `ref` it is computed from differences of nearby coordinates, exact for
+ * coincident surfaces instead of a difference of large sums. */
+static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const M2dSurface *s, PetscInt i, PetscReal c, const PetscReal n[2], const PetscReal ref[2])
 {
   PetscFunctionBeginUser;
   PetscCall(RowAdd(r, s->gdof[i], c * n[0]));
   PetscCall(RowAdd(r, s->gdof[i] + 1, c * n[1]));
-  *g0 += c * (n[0] * s->x[2 * i] + n[1] * s->x[2 * i + 1]);
+  *g0 += c * (n[0] * (s->x[2 * i] - ref[0]) + n[1] * (s->x[2 * i + 1] - ref[1]));
   PetscFunctionReturn(0);
 }
 
@@ -210,8 +215,8 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
     MortarSegmentDM(nm, s, basis, D, M);
     for (int i = 0; i < 2; i++) {
       for (int j = 0; j < 2; j++) {
-        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], nm, en[j], D[2 * i + j], n));
-        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], m, em[j], -M[2 * i + j], n));
+        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], nm, en[j], D[2 * i + j], n, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], m, em[j], -M[2 * i + j], n, &nm->x[2 * en[i]]));
       }
       w[en[i]] += D[2 * i] + D[2 * i + 1];
     }
@@ -261,9 +266,9 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     {
       const PetscReal *n  = &m->normal[2 * bf];
       const PetscInt  *em = &m->edge[2 * bf];
-      PetscCall(RowAddNode(&acc[i], &g0[i], nm, i, a, n));
-      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[0], -a * 0.5 * (1 - bxi), n));
-      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[1], -a * 0.5 * (1 + bxi), n));
+      PetscCall(RowAddNode(&acc[i], &g0[i], nm, i, a, n, p));
+      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[0], -a * 0.5 * (1 - bxi), n, p));
+      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[1], -a * 0.5 * (1 + bxi), n, p));
     }
     w[i]    = a;
     keep[i] = PETSC_TRUE;

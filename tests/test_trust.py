@@ -1,0 +1,105 @@
+"""Trust: a run that exits 0 has checked its own answer, and the answer does not
+depend on the units of the input.
+ 1. Separation is physics: a load that pulls a body held only by contact off
+    its support stops with one line naming the body and the free motion (S2
+    and Hertz pulled, condensed and full path, PDAS and VI, 1 and 2 ranks);
+    bodies pulled apart while both stay supported give the right answer with 0
+    active nodes and exit 0 (zero stress, gap = the prescribed opening).
+ 2. Scale invariance: S2 with E from 1e-20 to 1e20 (the load fixed) and with
+    the coordinates in micrometres gives the same stresses / p to 1e-10, on 1
+    and 2 ranks; Hertz level 1 with E x 1e12 and the load x 1e12 gives the same
+    pressure error and half-width.
+ 3. Near-incompressible plane strain, nu up to 0.5 - 1e-16, full and sri
+    integration, 1 and 2 ranks: either the right answer (patch test to the
+    round-off the conditioning allows) or one line, and the same on both rank
+    counts.
+ 4. Every exit 0 reports residual_rel and complementarity below the acceptance
+    tolerance it states."""
+import os
+
+from m2d import check, mesh, opts, run, solve, workdir
+
+os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
+S2 = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-output_vtu", "0", "-contact_monitor", "0"]
+HZ = ["-options_file", opts("hertz"), "-mesh", mesh("hertz_1"), "-output_vtu", "0", "-contact_monitor", "0"]
+
+
+def one_line_error(tag, args, ranks):
+    rc, out, err = run(args + ["-output_dir", workdir(tag)], ranks=ranks, check=False)
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    return rc, lines
+
+
+def accepted(s):
+    return s["residual_rel"] <= s["acceptance_tol"] and s["complementarity"] <= s["acceptance_tol"]
+
+
+def patch_error(s):
+    e = s["error"]
+    return max(e["sigma_yy_max_rel"], e["sigma_xx_max_rel"], e["sigma_xy_max_rel"])
+
+
+# ---------------------------------------------------------------- 1. separation
+pulled = [("S2 pulled", S2 + ["-pressure", "upper_top:-1e6"], "upper"),
+          ("S2 pulled, full path", S2 + ["-pressure", "upper_top:-1e6", "-kkt_path", "full"], "upper"),
+          ("S2 pulled, VI", S2 + ["-pressure", "upper_top:-1e6", "-snes_type", "vinewtonrsls"], "upper"),
+          ("Hertz pulled", HZ + ["-pressure", "cylinder_top:-0.43", "-hertz", "0"], "cylinder"),
+          ("Hertz pulled, full path", HZ + ["-pressure", "cylinder_top:-0.43", "-hertz", "0", "-kkt_path", "full"], "cylinder")]
+for name, args, body in pulled:
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_pulled", args, ranks)
+        check(rc == 1 and len(lines) == 1 and ("body '%s' is held by nothing against translation in y" % body) in lines[0],
+              "%s, %d rank(s): exit %d, one line: %s" % (name, ranks, rc, lines[-1] if lines else "(none)"))
+
+# both bodies supported: the upper top pulled up by 0.01 (S2 has no initial gap)
+for ranks in (1, 2):
+    args = S2 + ["-pressure", "", "-exact", "none", "-output_name", "sol",
+                 "-dirichlet", "lower_bottom:y,lower_origin:x,lower_left:x,upper_left:x,upper_top:y:0.01"]
+    s = solve("trust_apart_%d" % ranks, args, ranks=ranks)
+    check(s["active_nodes"] == 0 and abs(s["contact_force"]) == 0 and accepted(s),
+          "supported bodies pulled apart, %d rank(s): 0 active nodes, no contact force, checks %.1e / %.1e" % (ranks, s["residual_rel"], s["complementarity"]))
+    import csv
+    with open(os.path.join(workdir("trust_apart_%d" % ranks), "sol_contact.csv")) as f:
+        gaps = [float(r["gap"]) for r in csv.DictReader(f)]
+    check(max(abs(g - 0.01) for g in gaps) < 1e-12, "supported bodies pulled apart, %d rank(s): gap = 0.01 at every node (%.1e)" % (ranks, max(abs(g - 0.01) for g in gaps)))
+
+# ---------------------------------------------------------------- 2. units
+ref = None
+for E in ("1e-20", "1e-10", "1", "1e9", "1e20"):
+    for ranks in (1, 2):
+        s = solve("trust_E_%s_%d" % (E, ranks), S2 + ["-lower_E", E, "-upper_E", E], ranks=ranks)
+        err = patch_error(s)
+        check(err < 1e-10 and accepted(s), "S2, E = %s, %d rank(s): stresses exact to %.1e of p, contact force %.12e" % (E, ranks, err, s["contact_force"]))
+        check(abs(s["contact_force"] / 1e6 - 1) < 1e-10, "S2, E = %s, %d rank(s): contact force = p x 1 m" % (E, ranks))
+for ranks in (1, 2):
+    s = solve("trust_um_%d" % ranks, S2 + ["-mesh_scale", "1e-6"], ranks=ranks)
+    check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1.0 - 1) < 1e-10,
+          "S2 in micrometres (-mesh_scale 1e-6), %d rank(s): stresses exact to %.1e, contact force p x 1e-6 m = %.12e" % (ranks, patch_error(s), s["contact_force"]))
+h1 = solve("trust_hertz_ref", HZ)
+h2 = solve("trust_hertz_scaled", HZ + ["-cylinder_E", "2e14", "-block_E", "2e14", "-pressure", "cylinder_top:4.3e11"])
+check(abs(h1["pressure_l2_rel"] - h2["pressure_l2_rel"]) < 1e-10 and abs(h1["half_width"] - h2["half_width"]) < 1e-12 and h1["iterations"] == h2["iterations"],
+      "Hertz level 1 with E and the load x 1e12: pressure error %.6e = %.6e, half-width %.6f = %.6f, %d = %d steps"
+      % (h1["pressure_l2_rel"], h2["pressure_l2_rel"], h1["half_width"], h2["half_width"], h1["iterations"], h2["iterations"]))
+
+# ---------------------------------------------------------------- 3. near-incompressible
+for nu in ("0.49", "0.4999", "0.4999999", "0.499999999", "0.4999999999", "0.49999999999999", "0.4999999999999999"):
+    for integ in ("full", "sri"):
+        outcome = {}
+        for ranks in (1, 2):
+            tag = "trust_nu_%s_%s_%d" % (nu, integ, ranks)
+            args = S2 + ["-lower_nu", nu, "-upper_nu", nu, "-q4_integration", integ, "-output_name", "sol"]
+            rc, out, err = run(args + ["-output_dir", workdir(tag), "-summary", os.path.join(workdir(tag), "s.json")], ranks=ranks, check=False)
+            lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+            if rc == 0:
+                import json
+                with open(os.path.join(workdir(tag), "s.json")) as f:
+                    s = json.load(f)
+                # the round-off the conditioning allows: lambda/mu x 1e-16 x 100
+                ratio = 2 * float(nu) / (1 - 2 * float(nu))
+                err_p = patch_error(s)
+                check(err_p < max(1e-10, 100 * ratio * 2.2e-16) and accepted(s), "nu = %s %s, %d rank(s): answer within round-off (%.1e of p, lambda/mu = %.1e)" % (nu, integ, ranks, err_p, ratio))
+                outcome[ranks] = "answer"
+            else:
+                check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: "), "nu = %s %s, %d rank(s): one line: %s" % (nu, integ, ranks, lines[-1] if lines else "(none)"))
+                outcome[ranks] = lines[0] if lines else "?"
+        check(outcome[1] == outcome[2], "nu = %s %s: the same diagnosis on 1 and 2 ranks (%s)" % (nu, integ, outcome[1][:90]))
