@@ -34,6 +34,24 @@ PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResu
 /* a vector in the displacement layout: component 0 pressure, 1 gap (NaN off the interface) */
 PetscErrorCode ContactFillField(const M2dContact *c, Vec field);
 PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path);
+/* The contact state of a solved problem, kept to start the next one (an
+ * adapted mesh of the same scene): the non-mortar nodes that carried a
+ * multiplier, their positions (user units) and whether they were active. */
+typedef struct {
+  PetscInt   n;
+  PetscReal *xy;     /* 2 per node */
+  PetscBool *active;
+} M2dContactState;
+
+/* Keep c's state (after ContactToUserUnits: positions in user units). Not
+ * collective; free with ContactStateDestroy. */
+PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st);
+PetscErrorCode ContactStateDestroy(M2dContactState *st);
+/* The first active set of c from a previous state: multiplier j is active
+ * when the previous node nearest to it (positions compared in user units: c's
+ * surfaces are in reference units, unscaled by u->L) was. mask: one per
+ * multiplier, every rank. Not collective. */
+PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscBool mask[]);
 /* Turn the interface results and the surfaces' coordinates and weights from
  * reference units into the user's (for the files). Not collective. */
 PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u);

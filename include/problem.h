@@ -32,6 +32,7 @@ typedef struct {
   PetscInt       *drows;
   M2dSupports     supports; /* is every body held (with a given contact set)? */
   M2dKKT          kkt;   /* with contact */
+  PetscBool      *warm;  /* with contact: the first active set (one per multiplier, every rank), or NULL */
 } M2dProblem;
 
 /* Mesh stage: read the mesh of scene `user`, read the materials, check the

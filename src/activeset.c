@@ -495,9 +495,10 @@ static PetscErrorCode SetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetIn
   PetscFunctionReturn(0);
 }
 
-/* lambda0_j = c max(g~0_j, 0) makes node j active at the start: every
- * candidate (all), or those whose nodal gap g~0/w is within 1e-6 of the
- * mortar surface's size of the smallest one (closest; gaps are in reference
+/* lambda0_j = c max(g~0_j, 0) makes node j active at the start: the set of
+ * the previous mesh carried over by position (pb->warm), every candidate
+ * (all), or those whose nodal gap g~0/w is within 1e-6 of the mortar
+ * surface's size of the smallest one (closest; gaps are in reference
  * displacements, the size in reference lengths: L/U converts) */
 static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
 {
@@ -510,7 +511,7 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(z));
   PetscCall(VecZeroEntries(as->lam));
-  if (how == 0 || as->vi) PetscFunctionReturn(0);
+  if (as->vi || (how == 0 && !as->pb->warm)) PetscFunctionReturn(0);
   L = PetscSqrtReal(PetscSqr(ct->m.hi[0] - ct->m.lo[0]) + PetscSqr(ct->m.hi[1] - ct->m.lo[1])) * as->pb->units.L / as->pb->units.U;
   PetscCall(VecGetOwnershipRange(as->kkt->r, &lo, &hi));
   PetscCall(VecGetArrayRead(as->kkt->r, &r));
@@ -519,7 +520,8 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   PetscCall(VecGetArray(as->lam, &l));
   for (PetscInt j = lo; j < hi; j++) {
     PetscReal g = PetscRealPart(r[j - lo]);
-    l[j - lo]   = (how == 2 || g / ct->R.w[j] <= gmin + 1e-6 * L) ? as->c * PetscMax(g, 0) : 0;
+    PetscBool on = as->pb->warm ? as->pb->warm[j] : (PetscBool)(how == 2 || g / ct->R.w[j] <= gmin + 1e-6 * L);
+    l[j - lo]    = on ? as->c * PetscMax(g, 0) : 0;
   }
   PetscCall(VecRestoreArray(as->lam, &l));
   PetscCall(VecRestoreArrayRead(as->kkt->r, &r));

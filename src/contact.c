@@ -2,6 +2,12 @@
 #include "contact.h"
 #include "util.h"
 
+typedef struct {
+  PetscReal x, y;
+  PetscInt  j;
+} XYIdx;
+
+
 PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
@@ -108,11 +114,6 @@ PetscErrorCode ContactFillField(const M2dContact *c, Vec field)
   PetscFunctionReturn(0);
 }
 
-typedef struct {
-  PetscReal x, y;
-  PetscInt  j;
-} XYIdx;
-
 static int CmpXY(const void *a, const void *b)
 {
   const XYIdx *p = (const XYIdx *)a, *q = (const XYIdx *)b;
@@ -151,6 +152,74 @@ PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *p
     PetscCall(PetscFree(o));
   }
   PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st)
+{
+  PetscFunctionBeginUser;
+  st->n = c->R.n;
+  PetscCall(PetscMalloc2(2 * st->n + 1, &st->xy, st->n + 1, &st->active));
+  for (PetscInt j = 0; j < st->n; j++) {
+    st->xy[2 * j]     = c->nm.x[2 * c->R.node[j]];
+    st->xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
+    st->active[j]     = (PetscBool)(c->active[j] != 0);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactStateDestroy(M2dContactState *st)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree2(st->xy, st->active));
+  st->n = 0;
+  PetscFunctionReturn(0);
+}
+
+static int CmpX(const void *a, const void *b)
+{
+  const XYIdx *p = (const XYIdx *)a, *q = (const XYIdx *)b;
+  return (p->x > q->x) - (p->x < q->x);
+}
+
+/* nearest previous node by a sweep outwards in x from the binary-search position */
+static PetscInt Nearest(const XYIdx *o, PetscInt n, PetscReal x, PetscReal y)
+{
+  PetscInt  lo = 0, hi = n, best = -1;
+  PetscReal d2 = PETSC_MAX_REAL;
+  while (lo < hi) {
+    PetscInt mid = (lo + hi) / 2;
+    if (o[mid].x < x) lo = mid + 1;
+    else hi = mid;
+  }
+  for (PetscInt k = lo; k < n && PetscSqr(o[k].x - x) < d2; k++) {
+    PetscReal d = PetscSqr(o[k].x - x) + PetscSqr(o[k].y - y);
+    if (d < d2) d2 = d, best = o[k].j;
+  }
+  for (PetscInt k = lo - 1; k >= 0 && PetscSqr(o[k].x - x) < d2; k--) {
+    PetscReal d = PetscSqr(o[k].x - x) + PetscSqr(o[k].y - y);
+    if (d < d2) d2 = d, best = o[k].j;
+  }
+  return best;
+}
+
+PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscBool mask[])
+{
+  XYIdx *o;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(st->n + 1, &o));
+  for (PetscInt k = 0; k < st->n; k++) {
+    o[k].x = st->xy[2 * k];
+    o[k].y = st->xy[2 * k + 1];
+    o[k].j = k;
+  }
+  qsort(o, (size_t)st->n, sizeof(XYIdx), CmpX);
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    PetscInt k = st->n > 0 ? Nearest(o, st->n, c->nm.x[2 * c->R.node[j]] * u->L, c->nm.x[2 * c->R.node[j] + 1] * u->L) : -1;
+    mask[j]    = (PetscBool)(k >= 0 && st->active[k]);
+  }
+  PetscCall(PetscFree(o));
   PetscFunctionReturn(0);
 }
 

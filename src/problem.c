@@ -142,6 +142,7 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
     PetscCall(KKTDestroy(&pb->kkt));
   }
   PetscCall(PetscFree(pb->drows));
+  PetscCall(PetscFree(pb->warm));
   PetscCall(VecDestroy(&pb->ubc));
   PetscCall(VecDestroy(&pb->f));
   PetscCall(MatDestroy(&pb->K));
