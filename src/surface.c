@@ -80,94 +80,107 @@ static int CmpDofPos(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s)
+/* one edge of the surface as gathered: its two nodes (global dof of u_x,
+ * coordinates), oriented body-on-the-left, and the body of its cell; all
+ * doubles so that one MPI datatype carries it */
+typedef struct {
+  double gdof[2];
+  double x[4];
+  double body;
+} EdgeRecord;
+#define M2D_EDGE_DOUBLES ((int)(sizeof(EdgeRecord) / sizeof(double)))
+
+/* the record of local edge e: orient body-on-the-left (the outward normal (t_y, -t_x) points away from its cell) */
+static PetscErrorCode EdgeRecordMake(const M2dMesh *m, PetscSection gsec, PetscSection cs, const PetscScalar *ca, PetscInt e, EdgeRecord *r)
 {
-  MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
-  IS                 is;
+  const PetscInt *cone, *supp;
+  PetscReal       xy[8], cx = 0, cy = 0;
+  PetscInt        c;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetCone(m->dm, e, &cone));
+  PetscCall(DMPlexGetSupport(m->dm, e, &supp));
+  c = supp[0];
+  MeshCellCoordinates(m, ca, cs, c, xy);
+  for (int k = 0; k < 4; k++) {
+    cx += 0.25 * xy[2 * k];
+    cy += 0.25 * xy[2 * k + 1];
+  }
+  for (int k = 0; k < 2; k++) {
+    PetscInt off, g;
+    PetscCall(PetscSectionGetOffset(cs, cone[k], &off));
+    PetscCall(PetscSectionGetOffset(gsec, cone[k], &g));
+    r->gdof[k]     = (double)(g < 0 ? -(g + 1) : g);
+    r->x[2 * k]     = PetscRealPart(ca[off]);
+    r->x[2 * k + 1] = PetscRealPart(ca[off + 1]);
+  }
+  if ((0.5 * (r->x[0] + r->x[2]) - cx) * (r->x[3] - r->x[1]) - (0.5 * (r->x[1] + r->x[3]) - cy) * (r->x[2] - r->x[0]) < 0) {
+    double t;
+    t = r->gdof[0], r->gdof[0] = r->gdof[1], r->gdof[1] = t;
+    for (int d = 0; d < 2; d++) t = r->x[d], r->x[d] = r->x[2 + d], r->x[2 + d] = t;
+  }
+  r->body = (double)m->cellbody[c - m->cStart];
+  PetscFunctionReturn(0);
+}
+
+/* this rank's owned edges of the group */
+static PetscErrorCode LocalEdges(const M2dMesh *m, IS is, PetscInt *nloc, EdgeRecord **rec)
+{
   const PetscInt    *pts;
-  PetscInt           n, nloc = 0, nedge, nnode = 0, *edge, *gdof;
+  PetscInt           n;
   PetscSection       gsec, cs;
   Vec                cl;
   const PetscScalar *ca;
-  double            *rec, *all;
-  PetscMPIInt        size, nrec, *counts, *displs;
-  PetscReal         *x;
-  DofPos            *dp;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(MeshGetGroupIS(m, group, option, &is));
-  PetscCheck(MeshGroupDim(m, group) == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", option, group);
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
   PetscCall(VecGetArrayRead(cl, &ca));
   PetscCall(ISGetLocalSize(is, &n));
   PetscCall(ISGetIndices(is, &pts));
-  PetscCall(PetscMalloc1(7 * n + 1, &rec));
+  PetscCall(PetscMalloc1(n + 1, rec));
+  *nloc = 0;
   for (PetscInt i = 0; i < n; i++) {
-    PetscInt        e = pts[i], c, v[2], off[2], g[2];
-    const PetscInt *cone, *supp;
-    PetscReal       xy[8], cx = 0, cy = 0, xa[2], xb[2];
+    PetscInt e = pts[i];
     if (e < m->eStart || e >= m->eEnd || m->edgeghost[e - m->eStart]) continue;
-    PetscCall(DMPlexGetCone(m->dm, e, &cone));
-    PetscCall(DMPlexGetSupport(m->dm, e, &supp));
-    c = supp[0];
-    MeshCellCoordinates(m, ca, cs, c, xy);
-    for (int k = 0; k < 4; k++) {
-      cx += 0.25 * xy[2 * k];
-      cy += 0.25 * xy[2 * k + 1];
-    }
-    v[0] = cone[0];
-    v[1] = cone[1];
-    for (int k = 0; k < 2; k++) {
-      PetscCall(PetscSectionGetOffset(cs, v[k], &off[k]));
-      PetscCall(PetscSectionGetOffset(gsec, v[k], &g[k]));
-      if (g[k] < 0) g[k] = -(g[k] + 1);
-    }
-    xa[0] = PetscRealPart(ca[off[0]]);
-    xa[1] = PetscRealPart(ca[off[0] + 1]);
-    xb[0] = PetscRealPart(ca[off[1]]);
-    xb[1] = PetscRealPart(ca[off[1] + 1]);
-    /* orient body-on-the-left: the outward normal (t_y, -t_x) points away from the cell */
-    if ((0.5 * (xa[0] + xb[0]) - cx) * (xb[1] - xa[1]) - (0.5 * (xa[1] + xb[1]) - cy) * (xb[0] - xa[0]) < 0) {
-      PetscInt  tg = g[0];
-      PetscReal t0 = xa[0], t1 = xa[1];
-      g[0]         = g[1];
-      g[1]         = tg;
-      xa[0]        = xb[0];
-      xa[1]        = xb[1];
-      xb[0]        = t0;
-      xb[1]        = t1;
-    }
-    rec[7 * nloc + 0] = (double)g[0];
-    rec[7 * nloc + 1] = (double)g[1];
-    rec[7 * nloc + 2] = xa[0];
-    rec[7 * nloc + 3] = xa[1];
-    rec[7 * nloc + 4] = xb[0];
-    rec[7 * nloc + 5] = xb[1];
-    rec[7 * nloc + 6] = (double)m->cellbody[c - m->cStart];
-    nloc++;
+    PetscCall(EdgeRecordMake(m, gsec, cs, ca, e, &(*rec)[(*nloc)++]));
   }
   PetscCall(ISRestoreIndices(is, &pts));
-  PetscCall(ISDestroy(&is));
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  /* all ranks get every edge */
+  PetscFunctionReturn(0);
+}
+
+/* every rank gets every edge */
+static PetscErrorCode AllEdges(MPI_Comm comm, PetscInt nloc, const EdgeRecord *rec, PetscInt *nall, EdgeRecord **all)
+{
+  PetscMPIInt size, nrec, *counts, *displs;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
-  nrec = (PetscMPIInt)(7 * nloc);
+  PetscCall(PetscMPIIntCast(M2D_EDGE_DOUBLES * nloc, &nrec));
   PetscCallMPI(MPI_Allgather(&nrec, 1, MPI_INT, counts, 1, MPI_INT, comm));
   displs[0] = 0;
   for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
-  PetscCall(PetscMalloc1(displs[size] + 1, &all));
-  PetscCallMPI(MPI_Allgatherv(rec, nrec, MPI_DOUBLE, all, counts, displs, MPI_DOUBLE, comm));
-  nedge = displs[size] / 7;
+  *nall = displs[size] / M2D_EDGE_DOUBLES;
+  PetscCall(PetscMalloc1(*nall + 1, all));
+  PetscCallMPI(MPI_Allgatherv(rec, nrec, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, comm));
   PetscCall(PetscFree2(counts, displs));
-  PetscCall(PetscFree(rec));
-  PetscCheck(nedge > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' has no edges", option, group);
-  /* unique nodes by global dof, in a rank-independent order */
+  PetscFunctionReturn(0);
+}
+
+/* unique nodes by global dof, in a rank-independent order, and the surface */
+static PetscErrorCode SurfaceFromEdges(PetscInt nedge, const EdgeRecord *all, M2dSurface *s)
+{
+  PetscInt  *edge, *gdof, nnode = 0;
+  PetscReal *x;
+  DofPos    *dp;
+
+  PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(2 * nedge, &dp));
   for (PetscInt k = 0; k < 2 * nedge; k++) {
-    dp[k].gdof = (PetscInt)all[7 * (k / 2) + (k % 2)];
+    dp[k].gdof = (PetscInt)all[k / 2].gdof[k % 2];
     dp[k].pos  = k;
   }
   qsort(dp, (size_t)(2 * nedge), sizeof(DofPos), CmpDofPos);
@@ -176,17 +189,42 @@ PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *op
     PetscInt e = dp[k].pos / 2, end = dp[k].pos % 2;
     if (k == 0 || dp[k].gdof != dp[k - 1].gdof) {
       gdof[nnode]      = dp[k].gdof;
-      x[2 * nnode]     = all[7 * e + 2 + 2 * end];
-      x[2 * nnode + 1] = all[7 * e + 3 + 2 * end];
+      x[2 * nnode]     = all[e].x[2 * end];
+      x[2 * nnode + 1] = all[e].x[2 * end + 1];
       nnode++;
     }
     edge[dp[k].pos] = nnode - 1;
   }
   PetscCall(SurfaceCreate(nnode, x, gdof, nedge, edge, s));
-  s->body = (PetscInt)all[6];
-  for (PetscInt e = 1; e < nedge; e++) PetscCheck((PetscInt)all[7 * e + 6] == s->body, comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", option, group);
   PetscCall(PetscFree3(edge, gdof, x));
   PetscCall(PetscFree(dp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)m->dm);
+  IS          is;
+  PetscInt    nloc = 0, nedge = 0;
+  EdgeRecord *rec = NULL, *all = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshGetGroupIS(m, group, option, &is));
+  PetscCheck(MeshGroupDim(m, group) == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", option, group);
+  PetscCall(LocalEdges(m, is, &nloc, &rec));
+  PetscCall(ISDestroy(&is));
+  PetscCall(AllEdges(comm, nloc, rec, &nedge, &all));
+  PetscCall(PetscFree(rec));
+  if (nedge == 0) PetscCall(PetscFree(all));
+  PetscCheck(nedge > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' has no edges", option, group);
+  PetscCall(SurfaceFromEdges(nedge, all, s));
+  s->body = (PetscInt)all[0].body;
+  for (PetscInt e = 1; e < nedge; e++)
+    if ((PetscInt)all[e].body != s->body) {
+      PetscCall(PetscFree(all));
+      PetscCall(SurfaceDestroy(s));
+      SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", option, group);
+    }
   PetscCall(PetscFree(all));
   PetscFunctionReturn(0);
 }
