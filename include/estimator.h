@@ -1,5 +1,5 @@
-/* estimator.h - a posteriori error estimate per cell, and the mesh-size field
- * an adaptive loop derives from it.
+/* estimator.h - a posteriori error estimate per cell (src/estimator.c), and
+ * the mesh-size field an adaptive loop derives from it (src/estimator_size.c).
  *
  * Volume part (Zienkiewicz-Zhu): the stresses are recovered per body - a
  * vertex only sees the cells of the body being recovered - either by the

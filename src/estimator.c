@@ -457,6 +457,8 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContact *ct, const Sur
   PetscFunctionReturn(0);
 }
 
+static PetscLogEvent ev_estimate; /* -log_view: the whole estimate */
+
 PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], M2dErrorEstimate *e)
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)m->dm);
@@ -469,6 +471,9 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   Surf       sf;
 
   PetscFunctionBeginUser;
+  if (!ev_estimate) PetscCall(PetscLogEventRegister("M2dEstimate", DM_CLASSID, &ev_estimate));
+  PetscCheck(!ct || ct->pressure || ct->R.n == 0, comm, PETSC_ERR_ORDER, "M2dEstimateError: call ContactResults first");
+  PetscCall(PetscLogEventBegin(ev_estimate, 0, 0, 0, 0));
   PetscCall(PetscMemzero(e, sizeof(*e)));
   PetscCall(CtxOpen(m, s, u, &ul, &x));
   PetscCall(CreateRecoveryDM(m, &dmr));
@@ -502,6 +507,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   PetscCall(PetscFree2(sv, has));
   PetscCall(DMDestroy(&dmr));
   PetscCall(CtxClose(&ul, &x));
+  PetscCall(PetscLogEventEnd(ev_estimate, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -559,105 +565,5 @@ PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, P
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   *err  = PetscSqrtReal(loc[0]);
   *norm = PetscSqrtReal(loc[1]);
-  PetscFunctionReturn(0);
-}
-
-/* ---------- size field ---------- */
-
-PetscErrorCode M2dCellSizes(const M2dMesh *m, PetscReal h[])
-{
-  Vec                cl;
-  PetscSection       cs;
-  const PetscScalar *ca;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(VecGetArrayRead(cl, &ca));
-  for (PetscInt c = m->cStart; c < m->cEnd; c++) {
-    PetscReal xy[8], N[4], dN[8], area = 0;
-    MeshCellCoordinates(m, ca, cs, c, xy);
-    for (int i = 0; i < 2; i++)
-      for (int j = 0; j < 2; j++) area += Q4Shape(xy, g2[i], g2[j], N, dN); /* exact for a bilinear map */
-    h[c - m->cStart] = PetscSqrtReal(area);
-  }
-  PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscFunctionReturn(0);
-}
-
-void M2dSizeFieldDefaults(M2dSizeFieldParams *p)
-{
-  p->target_rel = 0.05;
-  p->order      = 2;
-  p->order_sing = 0.5;
-  p->sing_share = 10;
-  p->min_factor = 0.125;
-  p->max_factor = 2;
-}
-
-/* h_new/h_K of a cell for N expected cells (see M2dSizeField); sing: the cell
- * holds at least sing_share times the mean eta_K^2 */
-static PetscReal SizeFactor(PetscReal eta, PetscBool sing, PetscReal etaT, PetscReal N, const M2dSizeFieldParams *p)
-{
-  PetscReal ratio, f;
-  if (!(eta > 0)) return p->max_factor;
-  ratio = etaT / (PetscSqrtReal(N) * eta); /* < 1: the cell's error is above its share */
-  f     = PetscPowReal(ratio, 1 / (sing && ratio < 1 ? p->order_sing : p->order));
-  return PetscMin(PetscMax(f, p->min_factor), p->max_factor);
-}
-
-/* expected number of cells sum_K (h_K/h_new)^2 for N, minus N (global) */
-static PetscErrorCode CountExcess(MPI_Comm comm, PetscInt n, const PetscReal eta[], PetscReal sing2, PetscReal etaT, PetscReal N, const M2dSizeFieldParams *p, PetscReal *G)
-{
-  PetscReal cnt = 0;
-
-  PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < n; k++) cnt += 1 / PetscSqr(SizeFactor(eta[k], (PetscBool)(eta[k] * eta[k] >= sing2), etaT, N, p));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &cnt, 1, MPIU_REAL, MPI_SUM, comm));
-  *G = cnt - N;
-  PetscFunctionReturn(0);
-}
-
-/* The rule. Where the solution is smooth a cell's indicator falls as
- * eta_K ~ h^q, q = p + d/2 (p = 1 the energy-norm rate of Q4, d/2 = 1 because
- * eta_K^2 is an integral over the cell), so the cells that replace K carry
- * eta_K^2 (h_new/h_K)^(2q) each. A mesh of N cells that equidistributes the
- * target eta_T^2 (eta_T = target_rel x energy norm) gives each eta_T^2 / N:
- *     h_new = h_K (eta_T / (sqrt(N) eta_K))^(1/q),  clamped to [min, max] x h_K,
- * and N = sum_K (h_K / h_new)^2 is the expected number of cells: the smallest
- * root, bracketed by a geometric scan up from N_now/max^2 and bisected in log N
- * (the sum is increasing in N and bounded by the clamps). With equal eta_K this
- * is h_new/h = (eta_T/estimate)^(1/p), uniform refinement.
- * Singular cells. Near a singularity (S1's corners: u ~ r^alpha, alpha ~ 1/2;
- * Hertz zone edge: alpha = 3/2) the indicator of the cell at the singular point
- * falls only as h^alpha, so with q it would be refined too little and the loop
- * would take many steps to grade there. A cell holding at least sing_share
- * times the mean eta_K^2 (on a smooth solution no cell does; at a singular point
- * a few do, and fewer as the mesh grades) and above its share uses order_sing:
- * a larger refinement factor exactly where the indicator concentrates
- * (continuous at eta_K = share, where every order gives 1). */
-PetscErrorCode M2dSizeField(MPI_Comm comm, PetscInt n, const PetscReal h[], const PetscReal eta[], const M2dErrorEstimate *e, const M2dSizeFieldParams *p, PetscReal hnew[], PetscReal *nexpect)
-{
-  PetscReal etaT = p->target_rel * e->energy_norm, ncur = n, sing2, lo, hi, G;
-  const PetscReal step = 1.189207115002721; /* 2^(1/4) */
-
-  PetscFunctionBeginUser;
-  PetscCheck(p->target_rel > 0 && p->order > 0 && p->order_sing > 0 && p->sing_share > 0 && p->min_factor > 0 && p->min_factor <= 1 && p->max_factor >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "size field: target %g, orders %g %g, share %g, factors [%g, %g] out of range", (double)p->target_rel, (double)p->order, (double)p->order_sing, (double)p->sing_share, (double)p->min_factor, (double)p->max_factor);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncur, 1, MPIU_REAL, MPI_SUM, comm));
-  sing2 = ncur > 0 ? p->sing_share * e->estimate * e->estimate / ncur : 0;
-  lo    = ncur / PetscSqr(p->max_factor); /* G(lo) >= 0: every factor is <= max */
-  for (hi = lo * step;; hi *= step) {   /* G(ncur / min^2) <= 0: the scan stops there at the latest */
-    PetscCall(CountExcess(comm, n, eta, sing2, etaT, hi, p, &G));
-    if (G <= 0 || hi >= ncur / PetscSqr(p->min_factor)) break;
-    lo = hi;
-  }
-  for (int it = 0; it < 40 && hi > lo * (1 + 1e-12); it++) {
-    PetscReal N = PetscSqrtReal(lo * hi);
-    PetscCall(CountExcess(comm, n, eta, sing2, etaT, N, p, &G));
-    if (G > 0) lo = N;
-    else hi = N;
-  }
-  *nexpect = hi;
-  for (PetscInt k = 0; k < n; k++) hnew[k] = h[k] * SizeFactor(eta[k], (PetscBool)(eta[k] * eta[k] >= sing2), etaT, hi, p);
   PetscFunctionReturn(0);
 }
