@@ -5,14 +5,31 @@
 #ifndef M2D_REPORT_H
 #define M2D_REPORT_H
 #include "output.h"
+#include "estimator.h"
 #include "verify.h"
+
+/* per local cell, in sol->eta: the error indicator with the contact terms, the
+ * volume part alone (user units, sqrt of an energy per unit thickness), and
+ * the size field's h_new / h */
+#define M2D_ETA_FIELDS 3
+
+typedef struct {
+  PetscBool          enabled;  /* -error_estimate */
+  M2dRecovery        recovery; /* -estimator_recovery */
+  M2dSizeFieldParams size;     /* -estimator_target, -estimator_order_sing */
+} M2dEstimatorOptions;
+
+/* -error_estimate, -estimator_recovery, -estimator_target, -estimator_order_sing.
+ * Collective. */
+PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
 
 /* -output_dir and -summary writable (created if missing). Collective. */
 PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s);
-/* Fill sum with the run's figures (problem, path, contact results, exact
- * comparisons, checks v) and print them. Leaves the interface results in
- * pb->contact in the user's units. Collective. */
-PetscErrorCode ReportCompute(M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum);
+/* Fill sum with the run's figures (problem, path, contact results, the error
+ * estimate (into *est and sol->eta, when eo->enabled), exact comparisons,
+ * checks v) and print them. Leaves the interface results in pb->contact in
+ * the user's units. Collective. */
+PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum);
 /* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV; the mesh's
  * coordinates are left in the user's units. Collective. */
 PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol);

@@ -16,6 +16,7 @@ typedef struct {
   Vec              active;  /* final active set (1/0, layout of lam), or NULL */
   PetscInt         ksp_its; /* iterations of the linear solve (linear and tied paths) */
   M2dActiveSetInfo as;      /* active-set paths */
+  PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
 } M2dSolution;
 
 /* The path for scene s; sets s->kkt_augment where the path needs it and says

@@ -19,7 +19,8 @@ static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies 
 /* -help: document the per-body and solver options too, then stop */
 static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 {
-  M2dSolverPath path;
+  M2dSolverPath       path;
+  M2dEstimatorOptions eo;
 
   PetscFunctionBeginUser;
   if (s->nbody == 0) {
@@ -29,6 +30,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(SceneReadMaterials(comm, s));
   PetscCall(M2dSolverChoosePath(comm, s, &path));
   PetscCall(M2dSolverDocumentOptions(comm, s));
+  PetscCall(ReportEstimatorOptions(comm, &eo));
   PetscFunctionReturn(0);
 }
 
@@ -38,6 +40,8 @@ static PetscErrorCode Run(MPI_Comm comm)
   M2dProblem      pb;
   M2dSolution     sol;
   M2dVerification v;
+  M2dEstimatorOptions eo;
+  M2dErrorEstimate    est;
   M2dSolverPath   path;
   M2dSummary     *sum;
   double          t[M2D_STAGE_COUNT + 1], t0 = M2dWallTime();
@@ -47,6 +51,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(SceneReadOptions(comm, &s));
   if (s.help) PetscFunctionReturn(DocumentOptions(comm, &s));
   PetscCall(ReportCheckPaths(comm, &s));
+  PetscCall(ReportEstimatorOptions(comm, &eo));
 
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_MESH]));
   t[M2D_STAGE_MESH] = M2dWallTime();
@@ -67,7 +72,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
   t[M2D_STAGE_OUTPUT] = M2dWallTime();
   PetscCall(PetscCalloc1(1, &sum));
-  PetscCall(ReportCompute(&pb, &sol, &v, sum));
+  PetscCall(ReportCompute(&pb, &sol, &v, &eo, &est, sum));
   PetscCall(ReportWriteFields(&pb, &sol));
   t[M2D_STAGE_OUTPUT]  = M2dWallTime() - t[M2D_STAGE_OUTPUT];
   t[M2D_STAGE_COUNT] = M2dWallTime() - t0;

@@ -88,13 +88,13 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dSummary *sum)
   PetscFunctionReturn(0);
 }
 
+/* the interface results (ContactResults already called, reference units) */
 static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dSummary *sum)
 {
   M2dContact *c = &pb->contact;
   PetscReal   na;
 
   PetscFunctionBeginUser;
-  PetscCall(ContactResults(c, &pb->kkt, sol->u, sol->lam, sol->active));
   if (pb->s.hertz) PetscCall(SummarizeHertz(pb, sum));
   PetscCall(ContactToUserUnits(c, &pb->units));
   SummaryString(sum, "", "method", pb->s.method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
@@ -167,10 +167,75 @@ static PetscErrorCode CellFields(const M2dProblem *pb, Vec u, PetscReal scale, P
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportCompute(M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum)
+PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
+{
+  const char *recs[] = {"spr", "average", "M2dRecovery", "M2D_RECOVERY_", NULL};
+
+  PetscFunctionBeginUser;
+  o->enabled  = PETSC_TRUE;
+  o->recovery = M2D_RECOVERY_SPR;
+  M2dSizeFieldDefaults(&o->size);
+  PetscOptionsBegin(comm, NULL, "Error estimator", "");
+  PetscCall(PetscOptionsBool("-error_estimate", "estimate the error per cell (cell field error_indicator, summary error_estimate)", "", o->enabled, &o->enabled, NULL));
+  PetscCall(PetscOptionsEnum("-estimator_recovery", "stress recovery of the error estimator: spr (superconvergent patch) or average (nodal averaging)", "", recs, (PetscEnum)o->recovery, (PetscEnum *)&o->recovery, NULL));
+  PetscCall(PetscOptionsReal("-estimator_target", "target relative energy-norm error of the size field", "", o->size.target_rel, &o->size.target_rel, NULL));
+  PetscCall(PetscOptionsReal("-estimator_order_sing", "order in h of the indicator at singular cells (size field)", "", o->size.order_sing, &o->size.order_sing, NULL));
+  PetscOptionsEnd();
+  PetscCheck(o->size.target_rel > 0 && o->size.target_rel < 1, comm, PETSC_ERR_USER_INPUT, "option -estimator_target: %g must be in (0, 1)", (double)o->size.target_rel);
+  PetscCheck(o->size.order_sing > 0 && o->size.order_sing <= o->size.order, comm, PETSC_ERR_USER_INPUT, "option -estimator_order_sing: %g must be in (0, %g]", (double)o->size.order_sing, (double)o->size.order);
+  PetscFunctionReturn(0);
+}
+
+/* the indicators (reference units inside; the absolute figures in the user's:
+ * an energy per unit thickness scales with S U L), the size field, and the
+ * effectivity where the answer is known */
+static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum)
+{
+  MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  const M2dContact *ct   = pb->has_contact ? &pb->contact : NULL;
+  PetscInt          nlc  = pb->mesh.cEnd - pb->mesh.cStart;
+  PetscReal        *a, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
+  M2dErrorEstimate  vol;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(M2D_ETA_FIELDS * nlc + 1, &sol->eta));
+  PetscCall(PetscMalloc3(nlc + 1, &a, nlc + 1, &h, nlc + 1, &hn));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, NULL, eo->recovery, a, &vol));
+  for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = a[c] * scale;
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, est));
+  PetscCall(M2dCellSizes(&pb->mesh, h));
+  PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  for (PetscInt c = 0; c < nlc; c++) {
+    sol->eta[M2D_ETA_FIELDS * c]     = a[c] * scale;
+    sol->eta[M2D_ETA_FIELDS * c + 2] = hn[c] / h[c];
+  }
+  SummaryReal(sum, "", "error_estimate", est->estimate_rel);
+  SummaryReal(sum, "estimator", "absolute", est->estimate * scale);
+  SummaryReal(sum, "estimator", "volume", est->volume * scale);
+  SummaryReal(sum, "estimator", "contact", est->contact * scale);
+  SummaryReal(sum, "estimator", "energy_norm", est->energy_norm * scale);
+  SummaryReal(sum, "estimator", "eta_max", est->eta_max * scale);
+  SummaryReal(sum, "estimator", "expected_cells", nexp);
+  PetscCall(PetscPrintf(comm, "error estimate: %.4e relative (%.4e absolute: volume %.4e, contact %.4e; energy norm %.4e)\n", (double)est->estimate_rel, (double)(est->estimate * scale), (double)(est->volume * scale), (double)(est->contact * scale), (double)(est->energy_norm * scale)));
+  if (pb->s.exact == M2D_EXACT_MMS || pb->s.exact == M2D_EXACT_UNIFORM) {
+    PetscReal err, nrm;
+    PetscCall(M2dExactEnergyError(&pb->mesh, &pb->s, sol->u, &err, &nrm));
+    SummaryReal(sum, "estimator", "true_error", err * scale);
+    SummaryReal(sum, "estimator", "true_error_rel", nrm > 0 ? err / nrm : 0);
+    SummaryReal(sum, "estimator", "effectivity", err > 0 ? est->estimate / err : 0);
+    PetscCall(PetscPrintf(comm, "true energy-norm error %.4e, effectivity %.4f\n", (double)(err * scale), (double)(err > 0 ? est->estimate / err : 0)));
+  }
+  PetscCall(PetscFree3(a, h, hn));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(est, sizeof(*est)));
   PetscCall(SummarizeProblem(pb, sol, v, sum));
+  if (pb->has_contact) PetscCall(ContactResults(&pb->contact, &pb->kkt, sol->u, sol->lam, sol->active));
+  if (eo->enabled) PetscCall(Estimate(pb, sol, eo, est, sum));
   if (pb->has_contact) PetscCall(SummarizeContact(pb, sol, sum));
   if (pb->s.exact == M2D_EXACT_UNIFORM) {
     PetscReal *f;
@@ -204,6 +269,10 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol)
     fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1};
   }
   for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
+  if (sol->eta) {
+    const char *ename[M2D_ETA_FIELDS] = {"error_indicator", "error_indicator_volume", "size_factor"};
+    for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
+  }
   if (pb->has_contact && (s->write_vtu || s->write_hdf5)) {
     char csv[PETSC_MAX_PATH_LEN];
     PetscCall(PetscSNPrintf(csv, sizeof(csv), "%s/%s_contact.csv", s->outdir, s->outname));

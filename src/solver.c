@@ -134,5 +134,6 @@ PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
   PetscCall(VecDestroy(&sol->u));
   PetscCall(VecDestroy(&sol->lam));
   PetscCall(VecDestroy(&sol->active));
+  PetscCall(PetscFree(sol->eta));
   PetscFunctionReturn(0);
 }
