@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PKGS="petsc-dev libmetis-dev libmumps-dev libmumps-headers-dev libopenblas0-serial gmsh libgmsh-dev cmake make gcc pkg-config openmpi-bin
-      python3 python3-numpy python3-h5py python3-matplotlib
+      python3 python3-numpy python3-scipy python3-h5py python3-matplotlib
       paraview python3-paraview xvfb xauth valgrind"
 missing=""
 for p in $PKGS; do
