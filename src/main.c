@@ -11,6 +11,7 @@
 #include "contact.h"
 #include "elasticity.h"
 #include "mesh.h"
+#include "optfiles.h"
 #include "output.h"
 #include "scene.h"
 #include "util.h"
@@ -403,6 +404,7 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
+  if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   ierr = M2dInstallErrorHandler();
