@@ -11,6 +11,7 @@
 #include "contact.h"
 #include "elasticity.h"
 #include "mesh.h"
+#include "optcheck.h"
 #include "optfiles.h"
 #include "output.h"
 #include "scene.h"
@@ -172,6 +173,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(PetscLogEventRegister("M2dDirichlet", MAT_CLASSID, &ev_asm[2]));
   PetscCall(PetscLogEventRegister("M2dKKT", MAT_CLASSID, &ev_asm[3]));
   PetscCall(SceneReadOptions(comm, &s));
+  PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before the mesh is read */
   if (s.help) { /* document the per-body options too, then stop */
     if (s.nbody == 0) {
       s.nbody = 1;
@@ -189,6 +191,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   t[ST_MESH] = M2dWallTime();
   PetscCall(MeshCreate(comm, &s, &m));
   PetscCall(SceneReadMaterials(comm, &s));
+  PetscCall(SceneCheckOptions(comm, &s)); /* and of the per-body ones */
   PetscCall(CheckGroups(comm, &s, &m));
   if (s.hertz && s.hertz_load <= 0) { /* quarter model: the full cylinder carries twice the load */
     PetscCall(ElasticityPressureResultant(&m, &s.load[0], &s.hertz_load));
@@ -278,6 +281,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   }
   t[ST_SOLVE] = M2dWallTime() - t[ST_SOLVE];
   PetscCall(PetscLogStagePop());
+  PetscCall(M2dOptionsCheckUnused(comm)); /* PETSc options no solver read (best before the solve: see README) */
 
   PetscCall(PetscLogStagePush(stage[ST_OUTPUT]));
   t[ST_OUTPUT] = M2dWallTime();
