@@ -133,6 +133,7 @@ PetscErrorCode SceneCheckOptions(MPI_Comm comm, const M2dScene *s);
  * else an error naming opt, given and dir. path gets len bytes. Collective on
  * comm (rank 0 looks, every rank gets its answer). */
 PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *given, const char *dir, char *path, size_t len);
-/* Print one line: plane mode, bodies and their materials. Collective on comm. */
+/* Print the plane mode, the bodies and their materials (and Hertz's effective
+ * radius when two radii are given). Collective on comm. */
 PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s);
 #endif

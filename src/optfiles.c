@@ -179,6 +179,10 @@ static int ScanFile(Scan *sc, const char *given, int require, const char *where)
   if (strstr(given, "${")) return 0; /* PETSc expands ${PETSC_DIR} and the like: its business */
   if (strlen(given) >= sizeof(name)) return Fail("options file name %s is too long", where);
   for (size_t i = 0; i <= strlen(given); i++) name[i] = given[i] == '\\' ? '/' : given[i]; /* PetscFixFilename */
+  if (EndsWith(name, ":yaml")) { /* PETSc's "read it as YAML" suffix */
+    name[strlen(name) - 5] = 0;
+    if (require) require = 2;
+  }
   if (stat(name, &st)) {
     if (!require) return 0;
     return Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno));

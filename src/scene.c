@@ -460,5 +460,6 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == M2D_PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
   for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
   PetscCall(PetscPrintf(comm, "\n"));
+  if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
 }

@@ -18,6 +18,7 @@ Open MPI's "job aborted" banner (mpiexec's, not mortar2d's) is switched off
 with OMPI_MCA_orte_execute_quiet, as in test_bad_input.py."""
 import json
 import os
+import re
 import shutil
 import subprocess
 
@@ -186,11 +187,12 @@ bad("-geo that is nowhere", BLOCK + ["-geo", "nosuch.geo"], ["-geo", "nosuch.geo
 def hertz_a(extra, name):
     summary = os.path.join(W, name + ".json")
     rc, out, err = run(HERTZ0 + extra + ["-summary", summary, "-output_vtu", "false", "-output_hdf5", "false"], check=False, timeout=TIMEOUT)
-    return json.load(open(summary))["hertz_a"] if rc == 0 else None
+    return (json.load(open(summary))["hertz_a"] if rc == 0 else None), out
 
 
-a1, a2 = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3,1.5"], "radius_3_1.5")
+(a1, _), (a2, out2) = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3,1.5"], "radius_3_1.5")
 report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3,1.5 is R = 1", "a = %s and %s" % (a1, a2))
+report(re.search(r"radii 3\.? and 1\.5, effective radius R = R1 R2/\(R1 \+ R2\) = 1\.?\n", out2) is not None, "the output states the effective radius")
 
 print("%d passed, %d failed" % (passed, failed))
 raise SystemExit(1 if failed else 0)
