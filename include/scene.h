@@ -16,7 +16,7 @@ typedef enum {
 
 typedef enum {
   M2D_EXACT_NONE,
-  M2D_EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 */
+  M2D_EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 (in the frame of -exact_angle) */
   M2D_EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
 } M2dExact;
 
@@ -40,10 +40,18 @@ typedef struct {
   PetscReal E, nu;
 } M2dBody;
 
+/* the frame a prescribed displacement is written in (-dirichlet G:x|y|xy|n|t[:V]) */
+typedef enum {
+  M2D_BC_XY,      /* u_x = value[0] where comp[0], u_y = value[1] where comp[1] */
+  M2D_BC_NORMAL,  /* u . n = value[0]: n the outward unit normal of the group's curve; comp[] unused (FALSE) */
+  M2D_BC_TANGENT  /* u . t = value[0]: t = (-n_y, n_x), along the boundary counter-clockwise; comp[] unused (FALSE) */
+} M2dBCFrame;
+
 typedef struct {
-  char      group[M2D_NAME_LEN]; /* physical curve or point */
-  PetscBool comp[2];             /* which of u_x, u_y are prescribed */
-  PetscReal value[2];
+  char       group[M2D_NAME_LEN]; /* physical curve or point (M2D_BC_NORMAL/TANGENT: a curve) */
+  M2dBCFrame frame;
+  PetscBool  comp[2];             /* M2D_BC_XY: which of u_x, u_y are prescribed */
+  PetscReal  value[2];
 } M2dDirichlet;
 
 typedef struct {
@@ -55,49 +63,78 @@ typedef struct {
 } M2dEdgeLoad;
 
 typedef struct {
-  PetscInt    nmesh;
-  PetscReal   mesh_scale; /* coordinates are multiplied by this (unit change) */
-  PetscBool   mesh_check; /* run DMPlexCheck* on the plex as built */
+  PetscInt       nmesh;
+  PetscReal      mesh_scale; /* coordinates are multiplied by this (unit change) */
+  PetscBool      mesh_check; /* run DMPlexCheck* on the plex as built */
   M2dPartitioner mesh_partitioner;
-  char        mesh[2][PETSC_MAX_PATH_LEN];
-  PetscInt    nbody; /* 0 = every physical surface is a body */
+  char           mesh[2][PETSC_MAX_PATH_LEN]; /* resolved (SceneResolvePath against mesh_dir) */
+  char           mesh_dir[PETSC_MAX_PATH_LEN];
+  char           geo[PETSC_MAX_PATH_LEN]; /* .geo source for remeshing, resolved against geo_dir; "" none */
+  char           geo_dir[PETSC_MAX_PATH_LEN];
+  PetscInt       nbody; /* 0 = every physical surface is a body */
   M2dBody        body[M2D_MAX_BODIES];
-  M2dPlane   plane;
-  PetscBool   sri; /* selective reduced integration of the volumetric (lambda) part */
-  PetscInt    ndir;
-  M2dDirichlet dir[M2D_MAX_BC];
-  PetscInt    nload;
+  PetscBool      materials_read; /* SceneReadMaterials has run */
+  M2dPlane       plane;
+  PetscBool      sri; /* selective reduced integration of the volumetric (lambda) part */
+  PetscInt       ndir;
+  M2dDirichlet   dir[M2D_MAX_BC];
+  PetscInt       nload;
   M2dEdgeLoad    load[M2D_MAX_BC];
-  M2dExact   exact;
-  PetscReal   mms_amplitude;
-  PetscReal   mms_wavenumber; /* k of u = A (sin kx cos ky, cos kx sin ky): pi, times the reference length inside (units.h) */
+  M2dExact       exact;
+  PetscReal      exact_angle; /* degrees: -exact uniform's frame, x' = R(angle) x */
+  PetscReal      mms_amplitude;
+  PetscReal      mms_wavenumber; /* k of u = A (sin kx cos ky, cos kx sin ky): pi, times the reference length inside (units.h) */
   /* contact pair (empty: no contact) */
-  char          contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
+  char             contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
   M2dContactMethod method;
-  int           basis;       /* MortarBasis (mortar.h) */
-  PetscReal     reach;       /* search distance; <= 0: automatic */
-  PetscBool     unilateral;  /* FALSE: every candidate node is held closed (tied) */
-  PetscReal     contact_c;   /* complementarity parameter; <= 0: automatic */
-  PetscBool     contact_monitor;
-  PetscInt      contact_initial; /* first active set: 0 closed gaps, 1 closest nodes, 2 every candidate */
-  PetscBool     hertz;       /* compare the contact pressure with Hertz */
-  PetscReal     hertz_radius, hertz_load;
-  PetscReal     exact_p;     /* -exact uniform: the exact -sigma_yy */
-  M2dKKTMat    kkt_mat;
-  PetscBool     condensed;   /* active set: factor once with a Schur complement (condensed.h) */
-  PetscReal     kkt_augment; /* augmented-Lagrangian weight on the K block (0: off) */
-  M2dOrdering   kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
-  PetscBool     kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */
-  PetscInt      icntl4, icntl7, icntl8, icntl14, icntl58; /* condensed path's MUMPS ICNTL(n) */
-  char        outdir[PETSC_MAX_PATH_LEN];
-  char        outname[M2D_NAME_LEN];
-  char        summary[PETSC_MAX_PATH_LEN];
-  PetscBool   write_vtu, write_hdf5;
-  PetscBool   help;
+  int              basis;           /* MortarBasis (mortar.h) */
+  PetscBool        reach_set;       /* -contact_reach given; FALSE: automatic (reach is then 0) */
+  PetscReal        reach;           /* search distance, > 0 when reach_set */
+  PetscBool        unilateral;      /* FALSE: every candidate node is held closed (tied) */
+  PetscBool        contact_c_set;   /* -contact_c given; FALSE: automatic (contact_c is then 0) */
+  PetscReal        contact_c;       /* complementarity parameter, > 0 when contact_c_set */
+  PetscBool        contact_monitor;
+  PetscInt         contact_initial; /* first active set: 0 closed gaps, 1 closest nodes, 2 every candidate */
+  PetscBool        hertz;           /* compare the contact pressure with Hertz */
+  PetscInt         hertz_nradius;   /* 1 or 2 radii given */
+  PetscReal        hertz_radii[2];  /* R1 (and R2) of -hertz_radius */
+  PetscReal        hertz_radius;    /* effective radius: R1 R2 / (R1 + R2), or R1 */
+  PetscBool        hertz_load_set;  /* -hertz_load given; FALSE: from the first -pressure (hertz_load is then 0) */
+  PetscReal        hertz_load;
+  PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */
+  PetscReal        exact_p;         /* -exact uniform: the exact -sigma_yy */
+  M2dKKTMat        kkt_mat;
+  PetscBool        condensed;    /* active set: factor once with a Schur complement (condensed.h) */
+  PetscReal        kkt_augment;  /* augmented-Lagrangian weight on the K block (0: off) */
+  M2dOrdering      kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
+  PetscBool        kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */
+  PetscInt         icntl4, icntl7, icntl8, icntl14, icntl58; /* condensed path's MUMPS ICNTL(n) */
+  char             outdir[PETSC_MAX_PATH_LEN];
+  char             outname[M2D_NAME_LEN];
+  char             summary[PETSC_MAX_PATH_LEN];
+  PetscBool        write_vtu, write_hdf5;
+  PetscBool        help;
 } M2dScene;
 
+/* Read the scene from the options database into *s (overwritten, owns no memory):
+ * every option checked for form and domain (an error names it), the -mesh and
+ * -geo files resolved (SceneResolvePath). Collective on comm. */
 PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s);
-/* Materials are read per body once the body names are known (after the mesh). */
+/* Read -NAME_E and -NAME_nu for every body in s->body (names known once the
+ * mesh is read when -bodies is not given); E in [1e-300, 1e300], nu in
+ * (-1, 0.5). Sets s->materials_read. Collective on comm. */
 PetscErrorCode SceneReadMaterials(MPI_Comm comm, M2dScene *s);
+/* Error "option -X is unknown (did you mean -Y?)" for an option that is
+ * neither the program's nor a PETSc object's (optcheck.h). Call after
+ * SceneReadOptions (before the mesh: -NAME_E/-NAME_nu are then left for
+ * later) and again after SceneReadMaterials. Collective on comm. */
+PetscErrorCode SceneCheckOptions(MPI_Comm comm, const M2dScene *s);
+/* Resolve a file an option names: an absolute path, or a relative one that
+ * exists from the current directory, as given; else dir/given if that exists;
+ * else an error naming opt, given and dir. path gets len bytes. Collective on
+ * comm (rank 0 looks, every rank gets its answer). */
+PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *given, const char *dir, char *path, size_t len);
+/* Print the plane mode, the bodies and their materials (and Hertz's effective
+ * radius when two radii are given). Collective on comm. */
 PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s);
 #endif

@@ -11,6 +11,7 @@
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
 #include "logging.h"
 #include "report.h"
+#include "optfiles.h"
 #include "util.h"
 
 static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies with Q4 elements and the mortar method.\n"
@@ -91,6 +92,7 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
+  if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   ierr = M2dInstallErrorHandler();

@@ -1,61 +1,33 @@
-/* scene.c - read a scene from the options database.
+/* scene.c - read a scene from the options database (see scene.h).
  *
- * Boundary conditions name gmsh physical groups:
- *   -dirichlet GROUP:x|y|xy[:VALUE]   prescribed displacement component(s) (default value 0)
- *   -pressure  GROUP:P[:GX:GY]        normal pressure P + GX x + GY y (positive pushes into the body)
- *   -traction  GROUP:TX:TY            traction vector
- * Several of each are given comma separated. */
+ * The options are read by job (mesh and bodies, boundary conditions, contact,
+ * comparisons, linear algebra, output) inside one PetscOptionsBegin/End, so
+ * that -help lists them together; their form is checked while reading
+ * (options.h), their domains and the ways they combine after (CheckScene),
+ * where an error leaks nothing.
+ *
+ * Boundary conditions name gmsh physical groups; several of each are given
+ * comma separated:
+ *   -dirichlet GROUP:x|y|xy|n|t[:VALUE]  prescribed displacement (default value 0):
+ *                                        components x, y, or along the normal n / tangent t
+ *   -pressure  GROUP:P[:GX:GY]           normal pressure P + GX x + GY y (positive pushes in)
+ *   -traction  GROUP:TX:TY               traction vector */
 #include "scene.h"
+#include "optcheck.h"
+#include "options.h"
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 
-/* PetscOptionsReal with a check first, so that a bad value is reported with the
- * option's name (PETSc's own message does not name it) and inf is refused */
-static PetscErrorCode OptionsReal(PetscOptionItems *PetscOptionsObject, const char *prefix, const char *name, const char *help, PetscReal def, PetscReal *value)
-{
-  char      buf[256], *end;
-  PetscBool set;
+#ifndef M2D_MESH_DIR
+  #define M2D_MESH_DIR "meshes"
+#endif
+#ifndef M2D_GEO_DIR
+  #define M2D_GEO_DIR "meshes"
+#endif
 
-  PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetString(NULL, prefix, name, buf, sizeof(buf), &set));
-  if (set) {
-    double v = strtod(buf, &end);
-    PetscCheck(end != buf && *end == 0 && !PetscIsInfOrNanReal((PetscReal)v), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%s%s: '%s' is not a finite number", prefix ? prefix : "", name + 1, buf);
-  }
-  PetscCall(PetscOptionsReal(name, help, "", def, value, NULL));
-  PetscFunctionReturn(0);
-}
-
-/* a string option with a fixed set of values: *index is the default on entry,
- * the chosen value on return; anything else is an error naming the option */
-static PetscErrorCode OptionsChoice(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const choices[], PetscInt n, PetscInt *index)
-{
-  char buf[64], list[256] = "";
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, choices[*index], sizeof(buf)));
-  PetscCall(PetscOptionsString(name, help, "", buf, buf, sizeof(buf), NULL));
-  for (PetscInt i = 0; i < n; i++) {
-    if (!strcmp(buf, choices[i])) {
-      *index = i;
-      PetscFunctionReturn(0);
-    }
-    PetscCall(PetscStrlcat(list, i ? "|" : "", sizeof(list)));
-    PetscCall(PetscStrlcat(list, choices[i], sizeof(list)));
-  }
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown value '%s' (expected %s)", name, buf, list);
-}
-
-static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *text, PetscReal *v)
-{
-  char *end;
-  PetscFunctionBeginUser;
-  *v = strtod(text, &end);
-  PetscCheck(end != text && *end == 0 && *v == *v, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: '%s' in '%s' is not a number", opt, text, entry);
-  PetscFunctionReturn(0);
-}
-
-/* split "a:b:c" in place into at most max fields */
+/* split "a:b:c" in place into at most max fields; max + 1 when there are more */
 static int Split(char *s, char **f, int max)
 {
   int n = 0;
@@ -69,222 +41,368 @@ static int Split(char *s, char **f, int max)
   return n;
 }
 
-static PetscErrorCode ReadGroupList(PetscOptionItems *PetscOptionsObject, const char *opt, const char *help, char ***entries, PetscInt *n)
+/* a finite number, else the option's error is kept (options.h) */
+static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *text, PetscReal *v)
 {
-  PetscBool set;
-  PetscInt  nmax = M2D_MAX_BC;
-  char    **e;
+  char  *end;
+  double d = strtod(text, &end);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(nmax, &e));
-  PetscCall(PetscOptionsStringArray(opt, help, "", e, &nmax, &set));
-  if (!set) nmax = 0;
-  *entries = e;
-  *n       = nmax;
+  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d)) PetscCall(M2dOptionsDefer("option %s: '%s' in '%s' is not a finite number", opt, text, entry));
+  else *v = (PetscReal)d;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FreeList(char **e, PetscInt n)
+static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
+{
+  char *f[4], buf[256];
+  int   nf;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
+  nf = Split(buf, f, 3);
+  if (nf != 2 && nf != 3) {
+    PetscCall(M2dOptionsDefer("option -dirichlet: '%s' is not GROUP:x|y|xy|n|t[:VALUE]", entry));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(bc->group, f[0], sizeof(bc->group)));
+  bc->frame = M2D_BC_XY;
+  if (!strcmp(f[1], "x")) bc->comp[0] = PETSC_TRUE;
+  else if (!strcmp(f[1], "y")) bc->comp[1] = PETSC_TRUE;
+  else if (!strcmp(f[1], "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
+  else if (!strcmp(f[1], "n")) bc->frame = M2D_BC_NORMAL;
+  else if (!strcmp(f[1], "t")) bc->frame = M2D_BC_TANGENT;
+  else PetscCall(M2dOptionsDefer("option -dirichlet: unknown component '%s' in '%s' (x, y, xy, n or t)", f[1], entry));
+  if (nf == 3) {
+    PetscReal v = 0;
+    PetscCall(ParseReal("-dirichlet", entry, f[2], &v));
+    bc->value[0] = bc->value[1] = v;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ParsePressure(const char *entry, M2dEdgeLoad *l)
+{
+  char *f[5], buf[256];
+  int   nf;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
+  nf = Split(buf, f, 4);
+  if (nf != 2 && nf != 4) {
+    PetscCall(M2dOptionsDefer("option -pressure: '%s' is not GROUP:P or GROUP:P:GX:GY", entry));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+  l->is_pressure = PETSC_TRUE;
+  PetscCall(ParseReal("-pressure", entry, f[1], &l->p));
+  if (nf == 4) {
+    PetscCall(ParseReal("-pressure", entry, f[2], &l->grad[0]));
+    PetscCall(ParseReal("-pressure", entry, f[3], &l->grad[1]));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ParseTraction(const char *entry, M2dEdgeLoad *l)
+{
+  char *f[4], buf[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
+  if (Split(buf, f, 3) != 3) {
+    PetscCall(M2dOptionsDefer("option -traction: '%s' is not GROUP:TX:TY", entry));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+  PetscCall(ParseReal("-traction", entry, f[1], &l->t[0]));
+  PetscCall(ParseReal("-traction", entry, f[2], &l->t[1]));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  const char *const parts[]  = {"metis", "petsc"};  /* order of M2dPartitioner */
+  const char *const planes[] = {"strain", "stress"}; /* order of M2dPlane */
+  const char *const integ[]  = {"full", "sri"};
+  char             *mesh[2], *bodies[M2D_MAX_BODIES];
+  PetscInt          nbodies, k;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, mesh, &s->nmesh));
+  for (PetscInt i = 0; i < s->nmesh; i++) {
+    PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
+    PetscCall(PetscFree(mesh[i]));
+  }
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_dir", "directory of the -mesh files not found from the current directory", s->mesh_dir, sizeof(s->mesh_dir), NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-mesh_scale", "multiply the mesh coordinates by this factor (a change of length unit), > 0", s->mesh_scale, &s->mesh_scale, NULL));
+  k = s->mesh_partitioner;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-mesh_partitioner", "cells over the ranks: metis (libmetis on rank 0) or petsc (-petscpartitioner_type)", parts, 2, &k));
+  s->mesh_partitioner = (M2dPartitioner)k;
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, bodies, &nbodies));
+  s->nbody = nbodies;
+  for (PetscInt i = 0; i < nbodies; i++) {
+    char name[M2D_NAME_LEN + 8];
+    PetscCall(PetscStrncpy(s->body[i].name, bodies[i], sizeof(s->body[i].name)));
+    PetscCall(PetscFree(bodies[i]));
+    for (PetscInt j = 0; j < i; j++)
+      if (!strcmp(s->body[i].name, s->body[j].name)) PetscCall(M2dOptionsDefer("option -bodies: '%s' is listed twice", s->body[i].name));
+    /* the materials are read later (SceneReadMaterials): known names already */
+    PetscCall(PetscSNPrintf(name, sizeof(name), "-%s_E", s->body[i].name));
+    PetscCall(M2dOptionsKnow(name));
+    PetscCall(PetscSNPrintf(name, sizeof(name), "-%s_nu", s->body[i].name));
+    PetscCall(M2dOptionsKnow(name));
+  }
+  k = s->plane;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, &k));
+  s->plane = (M2dPlane)k;
+  k = s->sri ? 1 : 0;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced: cures volumetric locking)", integ, 2, &k));
+  s->sri = (PetscBool)(k == 1);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  char    *dir[M2D_MAX_BC], *pres[M2D_MAX_BC], *trac[M2D_MAX_BC];
+  PetscInt ndir, npres, ntrac;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], comma separated; default: none", M2D_MAX_BC, dir, &ndir));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in; default: none", M2D_MAX_BC, pres, &npres));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-traction", "traction vector GROUP:TX:TY on a physical curve, comma separated; default: none", M2D_MAX_BC, trac, &ntrac));
+  for (PetscInt i = 0; i < ndir; i++) PetscCall(ParseDirichlet(dir[i], &s->dir[s->ndir++]));
+  if (npres + ntrac > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
+  for (PetscInt i = 0; i < npres && s->nload < M2D_MAX_BC; i++) PetscCall(ParsePressure(pres[i], &s->load[s->nload++]));
+  for (PetscInt i = 0; i < ntrac && s->nload < M2D_MAX_BC; i++) PetscCall(ParseTraction(trac[i], &s->load[s->nload++]));
+  for (PetscInt i = 0; i < ndir; i++) PetscCall(PetscFree(dir[i]));
+  for (PetscInt i = 0; i < npres; i++) PetscCall(PetscFree(pres[i]));
+  for (PetscInt i = 0; i < ntrac; i++) PetscCall(PetscFree(trac[i]));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  const char *const methods[] = {"mortar", "nts"}; /* order of M2dContactMethod */
+  const char *const basis[]   = {"standard", "dual"}; /* order of MortarBasis */
+  const char *const init[]    = {"gap", "closest", "all"};
+  PetscInt          k;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "physical curve of the non-mortar contact surface; default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "physical curve of the mortar contact surface; default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
+  k = s->method;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-contact_method", "contact discretisation: mortar or nts (node-to-segment)", methods, 2, &k));
+  s->method = (M2dContactMethod)k;
+  k = s->basis;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-mortar_basis", "multipliers: standard (the seed report) or dual (biorthogonal: diagonal D)", basis, 2, &k));
+  s->basis = (int)k;
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_unilateral", "unilateral contact (active set); false: every candidate node held closed (tied)", s->unilateral, &s->unilateral));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-contact_c", "complementarity parameter c of the active-set test, > 0; auto: E*/h^2", &s->contact_c, &s->contact_c_set));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-contact_initial", "first active set: gap (closed gaps), closest (smallest gaps) or all (every candidate)", init, 3, &s->contact_initial));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_monitor", "print one line per active-set step", s->contact_monitor, &s->contact_monitor));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-contact_reach", "search distance of the contact pair, > 0; auto: 0.1 x the mortar surface's extent", &s->reach, &s->reach_set));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  const char *const exact[] = {"none", "uniform", "mms"}; /* order of M2dExact */
+  PetscInt          k       = s->exact;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-exact", "compare with an exact solution: uniform (sigma_yy = -p, the rest 0) or mms", exact, 3, &k));
+  s->exact = (M2dExact)k;
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-exact_p", "-exact uniform: the exact -sigma_yy, > 0; auto: the first -pressure", &s->exact_p, &s->exact_p_set));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_angle", "-exact uniform: its frame turned by this angle, in degrees", s->exact_angle, &s->exact_angle, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
+  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (effective R1 R2/(R1 + R2)), > 0", 2, s->hertz_radii, &s->hertz_nradius));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  const char *const mats[]  = {"aij", "nest"}; /* order of M2dKKTMat */
+  const char *const paths[] = {"full", "condensed"};
+  const char *const ords[]  = {"mumps", "metis"}; /* order of M2dOrdering */
+  PetscInt          k;
+
+  PetscFunctionBeginUser;
+  k = s->kkt_mat;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
+  s->kkt_mat = (M2dKKTMat)k;
+  k = s->condensed ? 1 : 0;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_path", "active-set solves: condensed (K + g C^T C factored once) or full (KKT each step)", paths, 2, &k));
+  s->condensed = (PetscBool)(k == 1);
+  k = s->kkt_ordering;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering for MUMPS: metis (nested dissection) or mumps (its own)", ords, 2, &k));
+  s->kkt_ordering = (M2dOrdering)k;
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2); false: LU", s->kkt_ldlt, &s->kkt_ldlt));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_4", "condensed path's MUMPS ICNTL(4): output level, 0 to 4", s->icntl4, &s->icntl4, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_7", "condensed path's MUMPS ICNTL(7) with -kkt_ordering mumps: ordering, 0 or 2 to 7", s->icntl7, &s->icntl7, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_8", "condensed path's MUMPS ICNTL(8): scaling, -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8, &s->icntl8, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_14", "condensed path's MUMPS ICNTL(14): working-space increase in percent, >= 0", s->icntl14, &s->icntl14, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_58", "condensed path's MUMPS ICNTL(58): symbolic factorization, 1 or 2", s->icntl58, &s->icntl58, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-kkt_augment", "weight w of K + w s C^T C, >= 0 (0: off; the condensed path takes 1)", s->kkt_augment, &s->kkt_augment, NULL));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < n; i++) PetscCall(PetscFree(e[i]));
-  PetscCall(PetscFree(e));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", s->outdir, sizeof(s->outdir), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_name", "base name of the output files", s->outname, sizeof(s->outname), NULL));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_vtu", "write NAME.vtu", s->write_vtu, &s->write_vtu));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_hdf5", "write NAME.h5 and NAME.xmf", s->write_hdf5, &s->write_hdf5));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-summary", "write a JSON summary of the run to this file; default: none", s->summary, sizeof(s->summary), NULL));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Defaults(M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(s, sizeof(*s)));
+  s->mesh_scale       = 1.0;
+  s->mesh_partitioner = M2D_PARTITIONER_METIS;
+  s->plane            = M2D_PLANE_STRAIN;
+  s->mms_amplitude    = 1e-3;
+  s->mms_wavenumber   = PETSC_PI;
+  s->method           = M2D_CONTACT_MORTAR;
+  s->unilateral       = PETSC_TRUE;
+  s->contact_monitor  = PETSC_TRUE;
+  s->contact_initial  = 1;
+  s->hertz_nradius    = 1;
+  s->hertz_radii[0]   = 1.0;
+  s->kkt_mat          = M2D_KKT_AIJ;
+  s->condensed        = PETSC_TRUE;
+  s->kkt_ordering     = M2D_ORDERING_METIS;
+  s->kkt_ldlt         = PETSC_TRUE;
+  s->icntl4           = 0;
+  s->icntl7           = 7;
+  s->icntl8           = 0;
+  s->icntl14          = 20;
+  s->icntl58          = 2;
+  s->write_vtu        = PETSC_TRUE;
+  s->write_hdf5       = PETSC_TRUE;
+  snprintf(s->mesh_dir, sizeof(s->mesh_dir), "%s", M2D_MESH_DIR);
+  snprintf(s->geo_dir, sizeof(s->geo_dir), "%s", M2D_GEO_DIR);
+  snprintf(s->outdir, sizeof(s->outdir), "output");
+  snprintf(s->outname, sizeof(s->outname), "solution");
+  PetscFunctionReturn(0);
+}
+
+/* MUMPS 5.5's documented values of the ICNTL entries the condensed path sets
+ * (ICNTL(7) = 1 and ICNTL(8) = -1 need arrays the program does not give) */
+static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
+{
+  const PetscInt scal[] = {-2, 0, 1, 3, 4, 7, 8, 77};
+  PetscBool      ok     = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCheck(s->icntl4 >= 0 && s->icntl4 <= 4, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_4: %" PetscInt_FMT " is not an output level 0 to 4", s->icntl4);
+  PetscCheck(s->icntl7 >= 0 && s->icntl7 <= 7 && s->icntl7 != 1, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_7: %" PetscInt_FMT " is not an ordering 0 or 2 to 7 (1, a given ordering, is -kkt_ordering metis)", s->icntl7);
+  for (size_t i = 0; i < sizeof(scal) / sizeof(scal[0]); i++) ok = (PetscBool)(ok || s->icntl8 == scal[i]);
+  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_8: %" PetscInt_FMT " is not a scaling -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8);
+  PetscCheck(s->icntl14 >= 0, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_14: %" PetscInt_FMT " must be >= 0 (a percentage)", s->icntl14);
+  PetscCheck(s->icntl58 == 1 || s->icntl58 == 2, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_58: %" PetscInt_FMT " must be 1 or 2", s->icntl58);
+  PetscFunctionReturn(0);
+}
+
+/* -snes_max_it is PETSc's, which takes 0 or a negative value silently: the program needs >= 1 */
+static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
+{
+  char      buf[256], *end;
+  PetscBool set;
+  long long v;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_max_it", buf, sizeof(buf), &set));
+  if (!set) PetscFunctionReturn(0);
+  v = strtoll(buf, &end, 10);
+  PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
+  PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
+  PetscFunctionReturn(0);
+}
+
+/* domains, and options that need one another */
+static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(s->mesh_scale > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh_scale: %g must be > 0", (double)s->mesh_scale);
+  PetscCheck(!s->contact_c_set || s->contact_c > 0, comm, PETSC_ERR_USER_INPUT, "option -contact_c: %g must be > 0 (auto: the automatic value)", (double)s->contact_c);
+  PetscCheck(!s->reach_set || s->reach > 0, comm, PETSC_ERR_USER_INPUT, "option -contact_reach: %g must be > 0 (auto: the automatic value)", (double)s->reach);
+  PetscCheck(!s->hertz_load_set || s->hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_load: %g must be > 0 (auto: from the first -pressure)", (double)s->hertz_load);
+  PetscCheck(!s->exact_p_set || s->exact_p > 0, comm, PETSC_ERR_USER_INPUT, "option -exact_p: %g must be > 0 (auto: the first -pressure)", (double)s->exact_p);
+  PetscCheck(s->mms_amplitude != 0, comm, PETSC_ERR_USER_INPUT, "option -mms_amplitude: must not be 0");
+  PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
+  for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
+  s->hertz_radius = s->hertz_nradius == 2 ? s->hertz_radii[0] * s->hertz_radii[1] / (s->hertz_radii[0] + s->hertz_radii[1]) : s->hertz_radii[0];
+  PetscCall(CheckMumps(comm, s));
+  PetscCall(CheckSNESMaxIt(comm));
+  PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
+  if (s->exact == M2D_EXACT_UNIFORM && !s->exact_p_set) {
+    PetscCheck(s->nload > 0 && s->load[0].is_pressure && s->load[0].p != 0, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a first -pressure load P != 0 (its value is the exact -sigma_yy)");
+    s->exact_p = s->load[0].p;
+  }
+  PetscCheck(!s->hertz || s->hertz_load_set || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
+  PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
+  PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *given, const char *dir, char *path, size_t len)
+{
+  PetscMPIInt rank;
+  int         found = 0;
+  struct stat st;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    PetscCall(PetscStrncpy(path, given, len));
+    if (given[0] == '/' || !stat(given, &st)) found = 1; /* an absolute path that is missing: its reader says so */
+    else {
+      PetscCall(PetscSNPrintf(path, len, "%s/%s", dir, given));
+      found = !stat(path, &st);
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&found, 1, MPI_INT, 0, comm));
+  PetscCheck(found, comm, PETSC_ERR_USER_INPUT, "option %s: no file '%s' in the current directory or in '%s'", opt, given, dir);
+  PetscCallMPI(MPI_Bcast(path, (int)len, MPI_CHAR, 0, comm));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
 {
-  char     *mesh[3]   = {NULL, NULL, NULL};
-  char     *bodies[M2D_MAX_BODIES + 1];
-  char    **dir, **pres, **trac;
-  PetscInt  nmesh = 3, nbodies = M2D_MAX_BODIES + 1, ndir, npres, ntrac;
-  PetscBool set;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(s, sizeof(*s)));
-  s->mms_amplitude = 1e-3;
-  s->mms_wavenumber = PETSC_PI;
-  s->write_vtu     = PETSC_TRUE;
-  s->write_hdf5    = PETSC_TRUE;
-  PetscCall(PetscStrncpy(s->outdir, "output", sizeof(s->outdir)));
-  PetscCall(PetscStrncpy(s->outname, "solution", sizeof(s->outname)));
+  PetscCall(Defaults(s));
   PetscCall(PetscOptionsHasHelp(NULL, &s->help));
-
   PetscOptionsBegin(comm, NULL, "mortar2d: 2D frictionless contact of elastic bodies (Q4, mortar)", "");
-  PetscCall(PetscOptionsStringArray("-mesh", "gmsh .msh file: one holding every body, or two comma-separated files (one per body); default: none, required", "", mesh, &nmesh, &set));
-  s->nmesh = set ? nmesh : 0;
-  PetscCheck(nmesh <= 2, comm, PETSC_ERR_USER_INPUT, "option -mesh: at most two files, got %" PetscInt_FMT, nmesh);
-  for (PetscInt i = 0; i < s->nmesh; i++) {
-    PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
-    PetscCall(PetscFree(mesh[i]));
-  }
-  s->mesh_scale = 1.0;
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mesh_scale", "multiply the mesh coordinates by this factor (a change of length unit)", s->mesh_scale, &s->mesh_scale));
-  PetscCheck(s->mesh_scale > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh_scale: %g must be > 0", (double)s->mesh_scale);
-  {
-    const char *parts[] = {"metis", "petsc", "M2dPartitioner", "M2D_PARTITIONER_", NULL};
-    s->mesh_partitioner = M2D_PARTITIONER_METIS;
-    PetscCall(PetscOptionsEnum("-mesh_partitioner", "how the cells are split over the ranks: metis (libmetis on rank 0, METIS_PartGraphRecursive on the cells sharing an edge; every rank then builds its own part of the plex) or petsc (PETSc's partitioner, -petscpartitioner_type, PTScotch by default, and DMPlexDistribute)", "", parts, (PetscEnum)s->mesh_partitioner, (PetscEnum *)&s->mesh_partitioner, NULL));
-  }
-  s->mesh_check = PETSC_FALSE;
-  PetscCall(PetscOptionsBool("-mesh_check", "run PETSc's plex checks (symmetry, skeleton, faces and their orientation, geometry; point SF on several ranks) on the mesh as built", "", s->mesh_check, &s->mesh_check, NULL));
-  PetscCall(PetscOptionsStringArray("-bodies", "physical surface names of the bodies, comma separated (default: every physical surface is a body)", "", bodies, &nbodies, &set));
-  if (!set) nbodies = 0;
-  PetscCheck(nbodies <= M2D_MAX_BODIES, comm, PETSC_ERR_USER_INPUT, "option -bodies: at most %d bodies", M2D_MAX_BODIES);
-  s->nbody = nbodies;
-  for (PetscInt i = 0; i < nbodies; i++) {
-    PetscCall(PetscStrncpy(s->body[i].name, bodies[i], sizeof(s->body[i].name)));
-    PetscCall(PetscFree(bodies[i]));
-    for (PetscInt j = 0; j < i; j++) PetscCheck(strcmp(s->body[i].name, s->body[j].name), comm, PETSC_ERR_USER_INPUT, "option -bodies: '%s' is listed twice", s->body[i].name);
-  }
-  {
-    const char *const planes[] = {"strain", "stress"}; /* order of PlaneMode */
-    PetscInt          k        = M2D_PLANE_STRAIN;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-plane", "plane strain or plane stress: strain|stress", planes, 2, &k));
-    s->plane = (M2dPlane)k;
-  }
-
-  {
-    const char *const integ[] = {"full", "sri"};
-    PetscInt          k       = 0;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-q4_integration", "Q4 stiffness integration: full (2x2 Gauss; locks as nu -> 0.5 in plane strain) or sri (selective reduced: the lambda part at 1 point, cures volumetric locking)", integ, 2, &k));
-    s->sri = (PetscBool)(k == 1);
-  }
-  PetscCall(ReadGroupList(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy[:VALUE] on a physical curve or point, comma separated; default: none", &dir, &ndir));
-  PetscCall(ReadGroupList(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY] on a physical curve, p = P + GX x + GY y (p > 0 pushes into the body), comma separated; default: none", &pres, &npres));
-  PetscCall(ReadGroupList(PetscOptionsObject, "-traction", "traction GROUP:TX:TY on a physical curve, comma separated; default: none", &trac, &ntrac));
-  for (PetscInt i = 0; i < ndir; i++) {
-    char        *f[4], buf[256];
-    int          nf;
-    M2dDirichlet *bc = &s->dir[s->ndir++];
-    PetscCall(PetscStrncpy(buf, dir[i], sizeof(buf)));
-    nf = Split(buf, f, 3);
-    PetscCheck(nf == 2 || nf == 3, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s' is not GROUP:x|y|xy[:VALUE]", dir[i]);
-    PetscCall(PetscStrncpy(bc->group, f[0], sizeof(bc->group)));
-    if (!strcmp(f[1], "x")) bc->comp[0] = PETSC_TRUE;
-    else if (!strcmp(f[1], "y")) bc->comp[1] = PETSC_TRUE;
-    else if (!strcmp(f[1], "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
-    else SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -dirichlet: unknown component '%s' in '%s' (expected x, y or xy)", f[1], dir[i]);
-    if (nf == 3) {
-      PetscReal v;
-      PetscCall(ParseReal("-dirichlet", dir[i], f[2], &v));
-      bc->value[0] = bc->value[1] = v;
-    }
-  }
-  for (PetscInt i = 0; i < npres; i++) {
-    char     *f[5], buf[256];
-    M2dEdgeLoad *l = &s->load[s->nload++];
-    PetscCall(PetscStrncpy(buf, pres[i], sizeof(buf)));
-    int   nf;
-    nf = Split(buf, f, 4);
-    PetscCheck(nf == 2 || nf == 4, comm, PETSC_ERR_USER_INPUT, "option -pressure: '%s' is not GROUP:P or GROUP:P:GX:GY", pres[i]);
-    PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
-    l->is_pressure = PETSC_TRUE;
-    PetscCall(ParseReal("-pressure", pres[i], f[1], &l->p));
-    if (nf == 4) {
-      PetscCall(ParseReal("-pressure", pres[i], f[2], &l->grad[0]));
-      PetscCall(ParseReal("-pressure", pres[i], f[3], &l->grad[1]));
-    }
-  }
-  for (PetscInt i = 0; i < ntrac; i++) {
-    char     *f[4], buf[256];
-    M2dEdgeLoad *l;
-    PetscCheck(s->nload < M2D_MAX_BC, comm, PETSC_ERR_USER_INPUT, "options -pressure and -traction: at most %d loads", M2D_MAX_BC);
-    l = &s->load[s->nload++];
-    PetscCall(PetscStrncpy(buf, trac[i], sizeof(buf)));
-    PetscCheck(Split(buf, f, 3) == 3, comm, PETSC_ERR_USER_INPUT, "option -traction: '%s' is not GROUP:TX:TY", trac[i]);
-    PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
-    PetscCall(ParseReal("-traction", trac[i], f[1], &l->t[0]));
-    PetscCall(ParseReal("-traction", trac[i], f[2], &l->t[1]));
-  }
-  PetscCall(FreeList(dir, ndir));
-  PetscCall(FreeList(pres, npres));
-  PetscCall(FreeList(trac, ntrac));
-
-  {
-    const char *const exact[] = {"none", "uniform", "mms"}; /* order of ExactKind */
-    PetscInt          k       = M2D_EXACT_NONE;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-exact", "exact solution to compare with: none|uniform|mms (uniform: sigma_yy = -p of the first -pressure, sigma_xx = sigma_xy = 0)", exact, 3, &k));
-    s->exact = (M2dExact)k;
-  }
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-exact_p", "exact -sigma_yy for -exact uniform (<= 0: the first -pressure)", s->exact_p, &s->exact_p));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms)", s->mms_amplitude, &s->mms_amplitude));
-  PetscCall(PetscOptionsString("-contact_nonmortar", "physical curve of the non-mortar contact surface (carries the multipliers); empty: no contact", "", s->contact_nm, s->contact_nm, sizeof(s->contact_nm), NULL));
-  PetscCall(PetscOptionsString("-contact_mortar", "physical curve of the mortar contact surface", "", s->contact_m, s->contact_m, sizeof(s->contact_m), NULL));
-  PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
-  {
-    const char *const methods[] = {"mortar", "nts"}; /* order of ContactMethod */
-    PetscInt          k         = M2D_CONTACT_MORTAR;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-contact_method", "contact discretisation: mortar|nts", methods, 2, &k));
-    s->method = (M2dContactMethod)k;
-  }
-  s->unilateral      = PETSC_TRUE;
-  s->contact_monitor = PETSC_TRUE;
-  s->hertz_radius    = 1.0;
-  s->hertz_load      = -1;
-  PetscCall(PetscOptionsBool("-contact_unilateral", "unilateral contact (active set through SNES); false: every candidate node stays closed (tied, one linear solve)", "", s->unilateral, &s->unilateral, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_c", "complementarity parameter c of the active-set test lambda/c >= gap (<= 0: E*/h^2 from the materials and the non-mortar edge length)", s->contact_c, &s->contact_c));
-  {
-    const char *const init[] = {"gap", "closest", "all"};
-    s->contact_initial       = 1;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-contact_initial", "first active set: gap (nodes whose initial gap is closed), closest (the nodes with the smallest initial gap: a body held only by contact is held from the start), all (every candidate)", init, 3, &s->contact_initial));
-  }
-  PetscCall(PetscOptionsBool("-contact_monitor", "print one line per active-set step", "", s->contact_monitor, &s->contact_monitor, NULL));
-  PetscCall(PetscOptionsBool("-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain) and report it", "", s->hertz, &s->hertz, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_radius", "cylinder radius R for -hertz", s->hertz_radius, &s->hertz_radius));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-hertz_load", "load P per unit thickness on the full cylinder for -hertz (<= 0: twice the resultant of the first -pressure, as for the quarter model)", s->hertz_load, &s->hertz_load));
-  {
-    const char *const basis[] = {"standard", "dual"}; /* order of MortarBasis */
-    PetscInt          k       = 0;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-mortar_basis", "multiplier basis of the mortar method: standard (the seed report) or dual (biorthogonal: diagonal D, decoupled nodal contact conditions)", basis, 2, &k));
-    s->basis = (int)k;
-  }
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-contact_reach", "search distance: non-mortar points farther than this from the mortar surface get no multiplier (<= 0: 0.1 x the mortar surface's extent)", s->reach, &s->reach));
-  {
-    const char *const mats[] = {"aij", "nest"}; /* order of KKTMatType */
-    PetscInt          k      = M2D_KKT_AIJ;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_mat", "matrix of the KKT system: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
-    s->kkt_mat = (M2dKKTMat)k;
-  }
-  {
-    const char *const paths[] = {"full", "condensed"};
-    PetscInt          k       = 1;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_path", "linear solves of the active set: condensed (K + g C^T C factored once: every rank factors its own rows with its own MUMPS, called directly, with a Schur complement on the interface, the multipliers and the rows coupled to another rank; the steps run on the multipliers with dense n_lambda algebra; 1 or more ranks) or full (the KKT matrix refactored at every step through PETSc's PCLU; needed for PCFIELDSPLIT, nest and vinewtonrsls)", paths, 2, &k));
-    s->condensed = (PetscBool)(k == 1);
-  }
-  {
-    const char *const ords[] = {"mumps", "metis"}; /* order of M2dOrdering */
-    PetscInt          k      = M2D_ORDERING_METIS;
-    PetscCall(OptionsChoice(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering handed to MUMPS: metis (libmetis nested dissection, multipliers last; condensed path on any number of ranks - each rank orders its own interior, the interface (its rows coupled to a higher rank, the multipliers) last -, full path on one rank) or mumps (MUMPS' own choice, -mat_mumps_icntl_7; AMD whenever a Schur complement is asked)", ords, 2, &k));
-    s->kkt_ordering = (M2dOrdering)k;
-  }
-  s->kkt_ldlt = PETSC_TRUE;
-  PetscCall(PetscOptionsBool("-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2, half the flops of LU); false: LU", "", s->kkt_ldlt, &s->kkt_ldlt, NULL));
-  s->icntl4  = 0;
-  s->icntl7  = 7;
-  s->icntl8  = 0;
-  s->icntl14 = 20;
-  s->icntl58 = 2;
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_4", "condensed path's MUMPS: output level (0 none, 2 statistics)", "", s->icntl4, &s->icntl4, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_7", "condensed path's MUMPS with -kkt_ordering mumps: its ordering (AMD is used whenever a Schur complement is asked)", "", s->icntl7, &s->icntl7, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_8", "condensed path's MUMPS: scaling (0: none - the factored block K + g C^T C is symmetric positive definite, and scaling cost 0.4 s of 4.6 s at level 5 -, 77: MUMPS' automatic choice)", "", s->icntl8, &s->icntl8, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_14", "condensed path's MUMPS: working-space increase in percent (raise it when MUMPS reports INFOG(1) = -9)", "", s->icntl14, &s->icntl14, NULL));
-  PetscCall(PetscOptionsInt("-mat_mumps_icntl_58", "condensed path's MUMPS: symbolic factorization (2: column counts, 0.25 s faster analysis than 1 at level 5; PETSc 3.18 does not forward this option to its own MUMPS interface)", "", s->icntl58, &s->icntl58, NULL));
-  PetscCall(OptionsReal(PetscOptionsObject, NULL, "-kkt_augment", "augmented-Lagrangian weight: K + w*scale*C^T C in the (u,u) block, exact at the solution; makes K invertible when bodies are held only by contact (fieldsplit needs it then); 0: off", s->kkt_augment, &s->kkt_augment));
-  PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
-  PetscCall(PetscOptionsString("-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", "", s->outdir, s->outdir, sizeof(s->outdir), NULL));
-  PetscCall(PetscOptionsString("-output_name", "base name of the output files", "", s->outname, s->outname, sizeof(s->outname), NULL));
-  PetscCall(PetscOptionsBool("-output_vtu", "write NAME.vtu", "", s->write_vtu, &s->write_vtu, NULL));
-  PetscCall(PetscOptionsBool("-output_hdf5", "write NAME.h5 and NAME.xmf", "", s->write_hdf5, &s->write_hdf5, NULL));
-  PetscCall(PetscOptionsString("-summary", "write a JSON summary of the run to this file (empty: none)", "", s->summary, s->summary, sizeof(s->summary), NULL));
+  PetscCall(ReadMeshAndBodies(PetscOptionsObject, s));
+  PetscCall(ReadBoundaryConditions(PetscOptionsObject, s));
+  PetscCall(ReadContact(PetscOptionsObject, s));
+  PetscCall(ReadComparisons(PetscOptionsObject, s));
+  PetscCall(ReadLinearAlgebra(PetscOptionsObject, s));
+  PetscCall(ReadOutput(PetscOptionsObject, s));
   PetscOptionsEnd();
-  if (s->exact == M2D_EXACT_UNIFORM && s->exact_p <= 0) {
-    PetscCheck(s->nload > 0 && s->load[0].is_pressure, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a -pressure load (its value is the exact -sigma_yy)");
-    s->exact_p = s->load[0].p;
+  PetscCall(M2dOptionsRaise(comm));
+  PetscCall(CheckScene(comm, s));
+  if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
+  PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
+  for (PetscInt i = 0; i < s->nmesh; i++) {
+    char given[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscStrncpy(given, s->mesh[i], sizeof(given)));
+    PetscCall(SceneResolvePath(comm, "-mesh", given, s->mesh_dir, s->mesh[i], sizeof(s->mesh[i])));
   }
-  PetscCheck(!s->hertz || s->hertz_load > 0 || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
-  PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
-  PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
+  if (s->geo[0]) {
+    char given[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscStrncpy(given, s->geo, sizeof(given)));
+    PetscCall(SceneResolvePath(comm, "-geo", given, s->geo_dir, s->geo, sizeof(s->geo)));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -292,20 +410,48 @@ PetscErrorCode SceneReadMaterials(MPI_Comm comm, M2dScene *s)
 {
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < s->nbody; b++) {
-    char prefix[M2D_NAME_LEN + 2], title[256], help[256];
-    PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "%s_", s->body[b].name));
-    PetscCall(PetscSNPrintf(title, sizeof(title), "Material of body '%s'", s->body[b].name));
-    s->body[b].E  = 1.0;
-    s->body[b].nu = 0.3;
+    char       prefix[M2D_NAME_LEN + 2], title[256], help[256];
+    M2dBody   *body = &s->body[b];
+    PetscReal  E;
+    PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "%s_", body->name));
+    PetscCall(PetscSNPrintf(title, sizeof(title), "Material of body '%s'", body->name));
+    body->E  = 1.0;
+    body->nu = 0.3;
     PetscOptionsBegin(comm, prefix, title, "");
-    PetscCall(PetscSNPrintf(help, sizeof(help), "Young's modulus of body %s (> 0)", s->body[b].name));
-    PetscCall(OptionsReal(PetscOptionsObject, prefix, "-E", help, s->body[b].E, &s->body[b].E));
-    PetscCall(PetscSNPrintf(help, sizeof(help), "Poisson ratio of body %s, in (-1, 0.5)", s->body[b].name));
-    PetscCall(OptionsReal(PetscOptionsObject, prefix, "-nu", help, s->body[b].nu, &s->body[b].nu));
+    PetscCall(PetscSNPrintf(help, sizeof(help), "Young's modulus of body %s, in [1e-300, 1e300]", body->name));
+    PetscCall(M2dOptionsReal(PetscOptionsObject, "-E", help, body->E, &body->E, NULL));
+    PetscCall(PetscSNPrintf(help, sizeof(help), "Poisson ratio of body %s, in (-1, 0.5)", body->name));
+    PetscCall(M2dOptionsReal(PetscOptionsObject, "-nu", help, body->nu, &body->nu, NULL));
     PetscOptionsEnd();
-    PetscCheck(s->body[b].E > 0, comm, PETSC_ERR_USER_INPUT, "option -%sE: Young's modulus %g must be > 0", prefix, (double)s->body[b].E);
-    PetscCheck(s->body[b].nu > -1 && s->body[b].nu < 0.5, comm, PETSC_ERR_USER_INPUT, "option -%snu: Poisson ratio %g must be in (-1, 0.5)", prefix, (double)s->body[b].nu);
+    PetscCall(M2dOptionsRaise(comm));
+    /* any finite E > 0 is scaled to order one by the assembly; outside this range the
+     * product with a length or a strain is not representable in double precision */
+    E = body->E;
+    PetscCheck(E > 0, comm, PETSC_ERR_USER_INPUT, "option -%sE: Young's modulus %g must be > 0", prefix, (double)E);
+    PetscCheck(E >= 1e-300 && E <= 1e300, comm, PETSC_ERR_USER_INPUT, "option -%sE: Young's modulus %g is outside [1e-300, 1e300]", prefix, (double)E);
+    PetscCheck(body->nu > -1 && body->nu < 0.5, comm, PETSC_ERR_USER_INPUT, "option -%snu: Poisson ratio %g must be in (-1, 0.5)", prefix, (double)body->nu);
   }
+  s->materials_read = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* before the materials are read, a -NAME_E or -NAME_nu may belong to a body the
+ * mesh names (no -bodies), or be meant for a body -bodies misspells (the mesh
+ * then says which): left for the check after SceneReadMaterials */
+static PetscBool MaybeMaterial(const char *name, void *ctx)
+{
+  const M2dScene *s = (const M2dScene *)ctx;
+  size_t          n = strlen(name);
+
+  if (s->materials_read) return PETSC_FALSE;
+  return (PetscBool)((n > 2 && !strcasecmp(name + n - 2, "_E")) || (n > 3 && !strcasecmp(name + n - 3, "_nu")));
+}
+
+PetscErrorCode SceneCheckOptions(MPI_Comm comm, const M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  if (s->help) PetscFunctionReturn(0);
+  PetscCall(M2dOptionsCheckUnknown(comm, MaybeMaterial, (void *)s));
   PetscFunctionReturn(0);
 }
 
@@ -315,5 +461,6 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == M2D_PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
   for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
   PetscCall(PetscPrintf(comm, "\n"));
+  if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,20 @@
+/* optfiles.h - check the options files a run names, before PETSc reads them.
+ *
+ * PETSc 3.18 follows `-options_file F` (on the command line, in PETSC_OPTIONS,
+ * in ~/.petscrc, ./.petscrc, ./petscrc and inside options files) recursively:
+ * a file that includes itself, directly or through others, recurses until the
+ * stack overflows (signal 11), and a missing file stops PetscInitialize with a
+ * multi-line traceback. This pre-scan follows the same files with the same
+ * syntax (comments from '#', one option and its value per line, "quoted"
+ * values, `alias` lines, names case-insensitive) and reports either in one line. */
+#ifndef M2D_OPTFILES_H
+#define M2D_OPTFILES_H
+
+/* Follow every options file argv (argv[0] is the program), PETSC_OPTIONS and
+ * the petscrc files name, the way PetscInitialize will. Returns 0 when every
+ * required file can be read and no file includes itself; otherwise prints one
+ * line "mortar2d: error: ..." on stderr (only on MPI rank 0, told by the
+ * launcher's environment: MPI is not initialised yet) and returns 1. Not
+ * collective: every rank runs it on the same files and gets the same answer. */
+int M2dOptionsFilesCheck(int argc, char **argv);
+#endif

@@ -1,0 +1,219 @@
+/* optcheck.c - see optcheck.h. */
+#include "optcheck.h"
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define MAX_KNOWN 160
+#define NAME_LEN  192
+
+/* the program's options, recorded as they are read (options.c) */
+static char known[MAX_KNOWN][NAME_LEN];
+static int  nknown;
+
+/* prefixes of the options PETSc's objects read when they are configured (the
+ * first check leaves them to the second) */
+static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
+
+/* PETSc options users type most, for "did you mean" and as names that are
+ * legitimately unread when the path in use has no object that reads them */
+static const char *const petsc_common[] = {
+  "ksp_type", "ksp_rtol", "ksp_atol", "ksp_divtol", "ksp_max_it", "ksp_monitor", "ksp_monitor_true_residual", "ksp_monitor_short", "ksp_converged_reason", "ksp_view", "ksp_gmres_restart", "ksp_norm_type", "ksp_pc_side", "ksp_error_if_not_converged", "ksp_initial_guess_nonzero", "ksp_converged_rate",
+  "pc_type", "pc_factor_mat_solver_type", "pc_factor_mat_ordering_type", "pc_factor_shift_type", "pc_factor_shift_amount", "pc_factor_levels", "pc_factor_fill", "pc_fieldsplit_type", "pc_fieldsplit_schur_fact_type", "pc_fieldsplit_schur_precondition", "pc_fieldsplit_detect_saddle_point", "pc_fieldsplit_block_size", "pc_hypre_type", "pc_gamg_threshold", "pc_gamg_agg_nsmooths", "pc_mg_levels", "pc_asm_overlap", "pc_bjacobi_blocks", "pc_use_amat",
+  "snes_type", "snes_rtol", "snes_atol", "snes_stol", "snes_max_it", "snes_max_funcs", "snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_type", "snes_linesearch_monitor", "snes_linesearch_max_it", "snes_error_if_not_converged", "snes_lag_jacobian", "snes_lag_preconditioner", "snes_ksp_ew", "snes_vi_monitor", "snes_test_jacobian",
+  "mat_type", "mat_view", "mat_mumps_icntl_4", "mat_mumps_icntl_7", "mat_mumps_icntl_8", "mat_mumps_icntl_13", "mat_mumps_icntl_14", "mat_mumps_icntl_24", "mat_mumps_icntl_28", "mat_mumps_icntl_29", "mat_mumps_cntl_1", "mat_mumps_cntl_3", "mat_mumps_use_omp_threads",
+  "vec_type", "vec_view", "dm_view", "dm_plex_check_all", "petscpartitioner_type", "petscpartitioner_view",
+  "log_view", "log_view_memory", "log_trace", "log_all", "malloc_dump", "malloc_debug", "malloc_view", "malloc_test", "memory_view", "info", "help", "version", "options_left", "options_view", "options_monitor", "options_file", "options_file_yaml", "skip_petscrc", "on_error_abort", "on_error_attach_debugger", "start_in_debugger", "fp_trap", "no_signal_handler", "objects_dump", "viewer_binary_skip_info"};
+
+/* read after the solvers are configured or only by some factorization
+ * package: unread is not an error in M2dOptionsCheckUnused */
+static const char *const read_later_prefix[] = {"log_", "malloc", "memory_", "options_", "info", "help", "version", "on_error_", "objects_", "mat_superlu", "mat_umfpack", "mat_cholmod", "mat_klu", "mat_strumpack", "mat_pastix", "mat_mkl_"};
+
+PetscErrorCode M2dOptionsKnow(const char *name)
+{
+  PetscFunctionBeginUser;
+  if (name[0] == '-') name++;
+  for (int i = 0; i < nknown; i++)
+    if (!strcasecmp(known[i], name)) PetscFunctionReturn(0);
+  PetscCheck(nknown < MAX_KNOWN, PETSC_COMM_SELF, PETSC_ERR_PLIB, "more than %d options: raise MAX_KNOWN in optcheck.c", MAX_KNOWN);
+  PetscCall(PetscStrncpy(known[nknown++], name, NAME_LEN));
+  PetscFunctionReturn(0);
+}
+
+static PetscBool Known(const char *name)
+{
+  for (int i = 0; i < nknown; i++)
+    if (!strcasecmp(known[i], name)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+static PetscBool InList(const char *name, const char *const list[], size_t n, PetscBool prefix)
+{
+  for (size_t i = 0; i < n; i++)
+    if (prefix ? !strncasecmp(name, list[i], strlen(list[i])) : !strcasecmp(name, list[i])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+#define IN_LIST(name, list, prefix) InList(name, list, sizeof(list) / sizeof(list[0]), prefix)
+
+/* PETSc's MUMPS interface reads -mat_mumps_icntl_N (N = 1..60, MUMPS 5.5), -mat_mumps_cntl_N
+ * (N = 1..15) and -mat_mumps_use_omp_threads at the symbolic factorization */
+static PetscBool MumpsName(const char *name)
+{
+  const char *n = NULL;
+  char       *end;
+  long        k, max = 0;
+
+  if (!strncasecmp(name, "mat_mumps_icntl_", 16)) n = name + 16, max = 60;
+  else if (!strncasecmp(name, "mat_mumps_cntl_", 15)) n = name + 15, max = 15;
+  else return (PetscBool)!strcasecmp(name, "mat_mumps_use_omp_threads");
+  k = strtol(n, &end, 10);
+  return (PetscBool)(end != n && !*end && k >= 1 && k <= max);
+}
+
+/* a PCFIELDSPLIT split's options, -fieldsplit_NAME_rest: the length of "fieldsplit_NAME_" (0: none) */
+static size_t SplitPrefix(const char *name)
+{
+  const char *u;
+  if (strncasecmp(name, "fieldsplit_", 11) || !(u = strchr(name + 11, '_'))) return 0;
+  return (size_t)(u + 1 - name);
+}
+
+/* optimal string alignment distance (Levenshtein with transpositions), case-insensitive */
+static int Distance(const char *a, const char *b)
+{
+  int la = (int)strlen(a), lb = (int)strlen(b), d[3][NAME_LEN + 1];
+
+  if (la >= NAME_LEN || lb >= NAME_LEN) return 1 << 20;
+  for (int j = 0; j <= lb; j++) d[0][j] = j;
+  for (int i = 1; i <= la; i++) {
+    int *cur = d[i % 3], *prev = d[(i + 2) % 3], *pprev = d[(i + 1) % 3];
+    cur[0] = i;
+    for (int j = 1; j <= lb; j++) {
+      int cost = tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]);
+      int v    = PetscMin(PetscMin(prev[j] + 1, cur[j - 1] + 1), prev[j - 1] + cost);
+      if (i > 1 && j > 1 && tolower((unsigned char)a[i - 1]) == tolower((unsigned char)b[j - 2]) && tolower((unsigned char)a[i - 2]) == tolower((unsigned char)b[j - 1])) v = PetscMin(v, pprev[j - 2] + 1);
+      cur[j] = v;
+    }
+  }
+  return d[la % 3][lb];
+}
+
+static void Closest(const char *name, const char **best, int *dbest)
+{
+  for (int i = 0; i < nknown; i++) {
+    int d = Distance(name, known[i]);
+    if (d < *dbest) *dbest = d, *best = known[i];
+  }
+  for (size_t i = 0; i < sizeof(petsc_common) / sizeof(petsc_common[0]); i++) {
+    int d = Distance(name, petsc_common[i]);
+    if (d < *dbest) *dbest = d, *best = petsc_common[i];
+  }
+}
+
+PetscErrorCode M2dOptionsSuggest(const char *name, char *out, size_t len)
+{
+  const char *best = NULL, *rest = name;
+  int         dbest = 1 << 20;
+  size_t      split = SplitPrefix(name);
+
+  PetscFunctionBeginUser;
+  if (name[0] == '-') name++, rest = name;
+  out[0] = 0;
+  if (split) rest = name + split; /* -fieldsplit_u_pc_tpye: match pc_tpye, keep the split's prefix */
+  Closest(rest, &best, &dbest);
+  if (best && dbest > 0 && dbest <= (strlen(rest) <= 5 ? 1 : (int)strlen(rest) / 3)) PetscCall(PetscSNPrintf(out, len, "-%.*s%s", (int)(rest - name), name, best));
+  PetscFunctionReturn(0);
+}
+
+/* the first of rank 0's unread options that bad() flags and no rank has read,
+ * copied to first ("" if none); collective */
+static PetscErrorCode FirstUnread(MPI_Comm comm, PetscBool (*bad)(const char *, void *), void *ctx, char *first, size_t len)
+{
+  PetscInt    n = 0;
+  char      **names = NULL, **values = NULL, name[NAME_LEN];
+  PetscMPIInt rank;
+  int         count = 0;
+
+  PetscFunctionBeginUser;
+  first[0] = 0;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
+  if (rank == 0)
+    for (PetscInt i = 0; i < n; i++) count += bad(names[i], ctx) ? 1 : 0;
+  PetscCallMPI(MPI_Bcast(&count, 1, MPI_INT, 0, comm));
+  for (PetscInt i = 0, k = 0; k < count; i++) {
+    PetscBool used = PETSC_FALSE;
+    int       any;
+    if (rank == 0) {
+      while (!bad(names[i], ctx)) i++;
+      PetscCall(PetscStrncpy(name, names[i], sizeof(name)));
+    }
+    k++;
+    PetscCallMPI(MPI_Bcast(name, (int)sizeof(name), MPI_CHAR, 0, comm));
+    PetscCall(PetscOptionsUsed(NULL, name, &used));
+    any = used ? 1 : 0;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm));
+    if (!any) {
+      PetscCall(PetscStrncpy(first, name, len));
+      break;
+    }
+  }
+  PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
+  PetscFunctionReturn(0);
+}
+
+typedef struct {
+  PetscBool (*skip)(const char *, void *);
+  void *ctx;
+} UnknownCtx;
+
+static PetscBool IsUnknown(const char *name, void *ctx)
+{
+  UnknownCtx *u = (UnknownCtx *)ctx;
+  if (Known(name) || IN_LIST(name, petsc_prefix, PETSC_TRUE)) return PETSC_FALSE;
+  return (PetscBool)!(u->skip && u->skip(name, u->ctx));
+}
+
+PetscErrorCode M2dOptionsCheckUnknown(MPI_Comm comm, PetscBool (*skip)(const char *name, void *ctx), void *ctx)
+{
+  UnknownCtx u = {skip, ctx};
+  char       first[NAME_LEN], best[NAME_LEN + 1];
+
+  PetscFunctionBeginUser;
+  PetscCall(FirstUnread(comm, IsUnknown, &u, first, sizeof(first)));
+  if (!first[0]) PetscFunctionReturn(0);
+  PetscCall(M2dOptionsSuggest(first, best, sizeof(best)));
+  if (best[0]) SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -%s is unknown (did you mean %s?)", first, best);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -%s is unknown (-help lists the options)", first);
+}
+
+/* unread and not excused: viewers (-X_view, -X_view_Y), converged-reason
+ * reports are read when a solve ends; monitors only on the paths that have
+ * the solver; the read-later prefixes and MUMPS' options (factorization);
+ * known names (the program's, the common PETSc ones, also under a split's
+ * -fieldsplit_NAME_ prefix) that the path in use does not read */
+static PetscBool IsUnused(const char *name, void *ctx)
+{
+  size_t      split = SplitPrefix(name);
+  const char *rest  = name + split, *v = strstr(name, "_view");
+
+  (void)ctx;
+  if (v && (v[5] == 0 || v[5] == '_')) return PETSC_FALSE;
+  if (strstr(name, "_converged_reason") || strstr(name, "_monitor")) return PETSC_FALSE;
+  if (IN_LIST(name, read_later_prefix, PETSC_TRUE) || MumpsName(rest)) return PETSC_FALSE;
+  if (Known(name) || Known(rest) || IN_LIST(rest, petsc_common, PETSC_FALSE)) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+PetscErrorCode M2dOptionsCheckUnused(MPI_Comm comm)
+{
+  char first[NAME_LEN], best[NAME_LEN + 1];
+
+  PetscFunctionBeginUser;
+  PetscCall(FirstUnread(comm, IsUnused, NULL, first, sizeof(first)));
+  if (!first[0]) PetscFunctionReturn(0);
+  PetscCall(M2dOptionsSuggest(first, best, sizeof(best)));
+  if (best[0]) SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -%s is unknown or unused (did you mean %s?)", first, best);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -%s is unknown or unused on this path (-help lists the options)", first);
+}

@@ -1,0 +1,271 @@
+/* optfiles.c - see optfiles.h. Plain C: it runs before PetscInitialize.
+ *
+ * Mirrors PETSc 3.18 (src/sys/objects/options.c): PetscOptionsInsert reads
+ * ~/.petscrc, ./.petscrc, ./petscrc (unless -skip_petscrc; missing is fine),
+ * then PETSC_OPTIONS, then the command line. A file is read line by line:
+ * everything from '#' is a comment, tabs and CR are blanks, the first token is
+ * an option (-name, optionally followed by one value) or `alias -a -b`; a
+ * token that starts with '"' runs to the next '"'. `-options_file F` inside a
+ * file or PETSC_OPTIONS reads F (relative to the current directory, like the
+ * command line) when it is met. Names holding ${...} and YAML files are only
+ * checked as far as PETSc's expansion and parser need not be repeated: left
+ * to PETSc. */
+#define _POSIX_C_SOURCE 200809L
+#include "optfiles.h"
+#include <ctype.h>
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#define MAX_DEPTH 64 /* deeper nesting than this is refused (PETSc has no limit) */
+#define NAME_LEN  4096
+
+typedef struct {
+  int   depth;                  /* files being read, outermost first */
+  char  name[MAX_DEPTH][NAME_LEN];
+  dev_t dev[MAX_DEPTH];
+  ino_t ino[MAX_DEPTH];
+} Scan;
+
+static int Fail(const char *fmt, ...)
+{
+  const char *rank = getenv("OMPI_COMM_WORLD_RANK"); /* Open MPI; MPICH and PMIx below */
+  va_list     ap;
+
+  if (!rank) rank = getenv("PMI_RANK");
+  if (!rank) rank = getenv("PMIX_RANK");
+  if (rank && atoi(rank) != 0) return 1;
+  fprintf(stderr, "mortar2d: error: ");
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fprintf(stderr, "\n");
+  fflush(stderr);
+  return 1;
+}
+
+/* PetscOptionsValidKey: "-" or "--", then a letter, and not a number such as -1e5 or -inf */
+static int ValidKey(const char *key)
+{
+  char *end;
+
+  if (!key || key[0] != '-') return 0;
+  if (key[1] == '-') key++;
+  if (!isalpha((unsigned char)key[1])) return 0;
+  (void)strtod(key, &end);
+  if (end != key && !(*end == '_' || isalnum((unsigned char)*end))) return 0;
+  return 1;
+}
+
+/* PetscTokenFind with blank separators: the next token of *cur (modified in
+ * place), NULL at the end; a token that starts with '"' ends at the next '"' */
+static char *NextToken(char **cur)
+{
+  char *p = *cur, *tok, sep = ' ';
+
+  if (!p || !*p) return NULL;
+  tok = p;
+  if (*p == '"') {
+    sep = '"';
+    tok++;
+    p++;
+  }
+  for (;; p++) {
+    if (*p == sep) {
+      *p++ = 0;
+      while (*p == ' ') p++;
+      *cur = p;
+      break;
+    }
+    if (!*p) {
+      *cur = NULL;
+      break;
+    }
+  }
+  return tok;
+}
+
+static int EndsWith(const char *s, const char *suffix)
+{
+  size_t n = strlen(s), m = strlen(suffix);
+  return n >= m && !strcmp(s + n - m, suffix);
+}
+
+static int ScanFile(Scan *sc, const char *given, int require, const char *where);
+
+/* the -options_file / -options_file_yaml entries of a string (PETSC_OPTIONS);
+ * PetscOptionsInsertString takes the token after them as the file name */
+static int ScanString(Scan *sc, const char *text, const char *where)
+{
+  char *buf = strdup(text), *cur = buf, *tok;
+  int   bad = 0;
+
+  if (!buf) return Fail("out of memory reading the options %s", where);
+  while (!bad && (tok = NextToken(&cur))) {
+    int file = !strcasecmp(tok, "-options_file"), yaml = !strcasecmp(tok, "-options_file_yaml");
+    if (!file && !yaml) continue;
+    tok = NextToken(&cur);
+    if (!tok) bad = Fail("option %s %s: missing file name", file ? "-options_file" : "-options_file_yaml", where);
+    else bad = ScanFile(sc, tok, file ? 1 : 2, where);
+  }
+  free(buf);
+  return bad;
+}
+
+/* one line of an options file, checked as PetscOptionsInsertFilePetsc does;
+ * an -options_file(_yaml) line gives its value in *include (*yaml: which) */
+static int ScanLine(const char *file, int line, char *text, char **include, int *yaml)
+{
+  char *cur = text, *t[4], *c;
+  int   alias = 0;
+
+  *include = NULL;
+  *yaml    = 0;
+  if ((c = strchr(text, '#'))) *c = 0;
+  for (c = text; *c; c++)
+    if (*c == '\t' || *c == '\r' || *c == '\n') *c = ' ';
+  t[0] = NextToken(&cur);
+  if (t[0] && !t[0][0]) t[0] = NextToken(&cur); /* the line began with blanks */
+  if (!t[0]) return 0;
+  for (int i = 1; i < 4; i++) t[i] = NextToken(&cur);
+  if (t[0][0] == '-') {
+    if (!ValidKey(t[0])) return Fail("options file '%s' line %d: invalid option '%s'", file, line, t[0]);
+    if (t[1] && ValidKey(t[1])) return Fail("options file '%s' line %d: two options on one line (%s %s)", file, line, t[0], t[1]);
+    if (!strcasecmp(t[0], "-options_file") || !strcasecmp(t[0], "-options_file_yaml")) {
+      if (!t[1]) return Fail("options file '%s' line %d: %s without a file name", file, line, t[0]);
+      *include = t[1];
+      *yaml    = t[0][13] != 0; /* -options_file_yaml */
+    }
+  } else if (!strcasecmp(t[0], "alias")) {
+    alias = 1;
+    if (!ValidKey(t[1]) || !ValidKey(t[2])) return Fail("options file '%s' line %d: alias needs two options (alias -new -old)", file, line);
+  } else return Fail("options file '%s' line %d: '%s' is not an option (options start with '-')", file, line, t[0]);
+  if (alias ? t[3] : t[2]) return Fail("options file '%s' line %d: extra token '%s'", file, line, alias ? t[3] : t[2]);
+  return 0;
+}
+
+static int ScanFileLines(Scan *sc, FILE *fp, const char *file)
+{
+  char  *text = NULL, where[NAME_LEN + 64];
+  size_t cap  = 0;
+  int    line = 0, bad = 0;
+
+  while (!bad && getline(&text, &cap, fp) >= 0) {
+    char *include;
+    int   yaml;
+    line++;
+    bad = ScanLine(file, line, text, &include, &yaml);
+    if (!bad && include) {
+      snprintf(where, sizeof(where), "in '%s' line %d", file, line);
+      bad = ScanFile(sc, include, yaml ? 2 : 1, where);
+    }
+  }
+  free(text);
+  return bad;
+}
+
+/* require: 0 the file may be missing (petscrc), 1 required, 2 required YAML (existence only) */
+static int ScanFile(Scan *sc, const char *given, int require, const char *where)
+{
+  char        name[NAME_LEN], chain[2 * NAME_LEN] = "";
+  struct stat st;
+  FILE       *fp;
+  int         bad;
+
+  if (strstr(given, "${")) return 0; /* PETSc expands ${PETSC_DIR} and the like: its business */
+  if (strlen(given) >= sizeof(name)) return Fail("options file name %s is too long", where);
+  for (size_t i = 0; i <= strlen(given); i++) name[i] = given[i] == '\\' ? '/' : given[i]; /* PetscFixFilename */
+  if (EndsWith(name, ":yaml")) { /* PETSc's "read it as YAML" suffix */
+    name[strlen(name) - 5] = 0;
+    if (require) require = 2;
+  }
+  if (stat(name, &st)) {
+    if (!require) return 0;
+    return Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno));
+  }
+  if (S_ISDIR(st.st_mode)) return require ? Fail("options file '%s' (named %s) is a directory", name, where) : 0;
+  for (int d = 0; d < sc->depth; d++) {
+    if (sc->dev[d] != st.st_dev || sc->ino[d] != st.st_ino) continue;
+    for (int k = d; k < sc->depth; k++) {
+      strncat(chain, sc->name[k], sizeof(chain) - strlen(chain) - 1);
+      strncat(chain, " -> ", sizeof(chain) - strlen(chain) - 1);
+    }
+    strncat(chain, name, sizeof(chain) - strlen(chain) - 1);
+    return Fail("options file '%s' includes itself: %s", name, chain);
+  }
+  if (sc->depth == MAX_DEPTH) return Fail("options file '%s': options files nested more than %d deep", name, MAX_DEPTH);
+  if (require == 2 || EndsWith(name, ".yaml") || EndsWith(name, ".yml") || EndsWith(name, ".json")) {
+    if (!(fp = fopen(name, "r"))) return Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno));
+    fclose(fp);
+    return 0; /* YAML: PETSc's own parser */
+  }
+  if (!(fp = fopen(name, "r"))) return require ? Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno)) : 0;
+  {
+    char head[7] = "";
+    size_t n = fread(head, 1, 6, fp);
+    head[n] = 0;
+    if (!strncmp(head, "%YAML ", 6) || !strncmp(head, "---", 3)) { /* PETSc reads it as YAML */
+      fclose(fp);
+      return 0;
+    }
+    rewind(fp);
+  }
+  snprintf(sc->name[sc->depth], NAME_LEN, "%s", name);
+  sc->dev[sc->depth] = st.st_dev;
+  sc->ino[sc->depth] = st.st_ino;
+  sc->depth++;
+  bad = ScanFileLines(sc, fp, name);
+  sc->depth--;
+  fclose(fp);
+  return bad;
+}
+
+/* -skip_petscrc on the command line (PetscOptionsProcessPrecedentFlags): the last one wins */
+static int SkipPetscrc(int argc, char **argv)
+{
+  int skip = 0;
+
+  for (int a = 1; a < argc; a++) {
+    const char *v;
+    if (!ValidKey(argv[a]) || strcasecmp(argv[a], "-skip_petscrc")) continue;
+    v    = (a + 1 < argc && argv[a + 1][0] && argv[a + 1][0] != '-') ? argv[a + 1] : NULL;
+    skip = !v || !(!strcasecmp(v, "0") || !strcasecmp(v, "false") || !strcasecmp(v, "no") || !strcasecmp(v, "off"));
+  }
+  return skip;
+}
+
+int M2dOptionsFilesCheck(int argc, char **argv)
+{
+  static Scan sc; /* large: not on the stack */
+  const char *env;
+  int         bad = 0;
+
+  sc.depth = 0;
+  if (!SkipPetscrc(argc, argv)) {
+    const char *home = getenv("HOME");
+    if (home && home[0]) {
+      char rc[NAME_LEN];
+      snprintf(rc, sizeof(rc), "%s/.petscrc", home);
+      bad = ScanFile(&sc, rc, 0, "as ~/.petscrc");
+    }
+    if (!bad) bad = ScanFile(&sc, ".petscrc", 0, "as ./.petscrc");
+    if (!bad) bad = ScanFile(&sc, "petscrc", 0, "as ./petscrc");
+  }
+  env = getenv("PETSC_OPTIONS");
+  if (!bad && env && env[0]) bad = ScanString(&sc, env, "in PETSC_OPTIONS");
+  /* the command line, as PetscOptionsInsertArgs walks it: a key, then its value unless the next is a key */
+  for (int a = 1; !bad && a < argc;) {
+    int file = !strcasecmp(argv[a], "-options_file"), yaml = !strcasecmp(argv[a], "-options_file_yaml");
+    if (!ValidKey(argv[a])) a++;
+    else if (file || yaml) {
+      if (a + 1 >= argc || argv[a + 1][0] == '-') bad = Fail("option %s: missing file name", argv[a]);
+      else bad = ScanFile(&sc, argv[a + 1], file ? 1 : 2, "on the command line");
+      a += 2;
+    } else a += (a + 1 < argc && !ValidKey(argv[a + 1])) ? 2 : 1;
+  }
+  return bad;
+}

@@ -1,0 +1,198 @@
+"""Options: typos, values outside their domain and broken options files stop the
+run with exit code 1 and exactly one stderr line "mortar2d: error: ..." naming
+the option or the file (and, for a typo, the closest known name); no crash, no
+hang. Each case runs on 1 and 2 ranks. Good runs that use PETSc options read
+late or only on some paths must not be refused (no false alarm).
+
+  1. unknown options: the program's (scene, per-body) and PETSc's (a prefix
+     typo is caught right after the options are read, a typo under a PETSc
+     prefix once the solvers are configured);
+  2. values outside their domain, non-numbers, inf and nan;
+  3. options files: include cycles (a -> a, a -> b -> a, through
+     PETSC_OPTIONS), missing or unreadable files, a line PETSc refuses;
+  4. an unknown value of a choice names the option and lists the choices;
+and scenes run from any directory, mesh names resolved against -mesh_dir,
+-hertz_radius R1,R2 compared through its effective radius.
+
+Open MPI's "job aborted" banner (mpiexec's, not mortar2d's) is switched off
+with OMPI_MCA_orte_execute_quiet, as in test_bad_input.py."""
+import json
+import os
+import re
+import shutil
+import subprocess
+
+from m2d import EXE, SRC, mesh, opts, run, workdir
+
+os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
+TIMEOUT = 120
+W = workdir("options")
+OUT = os.path.join(W, "out")
+passed = failed = 0
+
+
+def report(ok, what, detail=""):
+    global passed, failed
+    print(("ok   " if ok else "FAIL ") + what + (": " + detail if detail else ""))
+    if ok:
+        passed += 1
+    else:
+        failed += 1
+
+
+def write(name, text):
+    p = os.path.join(W, name)
+    with open(p, "w") as f:
+        f.write(text)
+    return p
+
+
+def attempt(args, ranks, env=None, cwd=None):
+    """(rc, stdout, stderr lines) or None on a timeout."""
+    try:
+        if env is None and cwd is None:
+            rc, out, err = run(args, ranks=ranks, check=False, timeout=TIMEOUT)
+        else:
+            cmd = [EXE] + args
+            if ranks > 1:
+                cmd = [os.environ.get("MPIEXEC", "mpiexec"), "--oversubscribe", "-n", str(ranks)] + cmd
+            e = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", **(env or {}))
+            p = subprocess.run(cmd, cwd=cwd or SRC, capture_output=True, text=True, timeout=TIMEOUT, env=e)
+            rc, out, err = p.returncode, p.stdout, p.stderr
+    except subprocess.TimeoutExpired:
+        return None
+    return rc, out, [l for l in err.splitlines() if l.strip()]
+
+
+def bad(name, args, culprits, ranklist=(1, 2), env=None, cwd=None):
+    for ranks in ranklist:
+        what = "%s [%d rank%s]" % (name, ranks, "s" if ranks > 1 else "")
+        r = attempt(args, ranks, env, cwd)
+        if r is None:
+            report(False, what, "no exit within %d s (hang?)" % TIMEOUT)
+            continue
+        rc, out, lines = r
+        line = lines[0] if len(lines) == 1 else " | ".join(lines)[:600]
+        problems = []
+        if rc != 1:
+            problems.append("exit code %d (want 1)" % rc)
+        if len(lines) != 1 or not lines[0].startswith("mortar2d: error: "):
+            problems.append("stderr is not one 'mortar2d: error: ' line")
+        problems += ["does not name %r" % c for c in culprits if c not in line]
+        report(not problems, what, ("; ".join(problems) + " -- stderr: " if problems else "") + line)
+
+
+def good(name, args, ranklist=(1, 2), env=None, cwd=None):
+    for ranks in ranklist:
+        what = "%s [%d rank%s]" % (name, ranks, "s" if ranks > 1 else "")
+        r = attempt(args + ["-output_dir", OUT], ranks, env, cwd)
+        if r is None:
+            report(False, what, "no exit within %d s (hang?)" % TIMEOUT)
+            continue
+        rc, out, lines = r
+        report(rc == 0 and not lines, what, "exit code %d, stderr: %s" % (rc, " | ".join(lines)[:400]))
+
+
+BLOCK = ["-options_file", opts("block"), "-output_dir", OUT]
+PATCH = ["-options_file", opts("patch_uniform"), "-output_dir", OUT]
+HERTZ0 = ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-output_dir", OUT]
+
+# ---------- 1. unknown options ----------
+bad("typo of a scene option", BLOCK + ["-contact_metod", "nts"], ["option -contact_metod is unknown", "did you mean -contact_method?"])
+bad("typo of a per-body option (-bodies given)", BLOCK + ["-blok_E", "1e9"], ["-blok_E", "did you mean -block_E?"])
+nobodies = write("block_no_bodies.opts", "".join(l for l in open(opts("block")) if not l.startswith("-bodies")))
+bad("typo of a per-body option (bodies from the mesh)", ["-options_file", nobodies, "-output_dir", OUT, "-blok_nu", "0.3"], ["-blok_nu", "did you mean -block_nu?"])
+bad("option of nobody", BLOCK + ["-frobnicate"], ["option -frobnicate is unknown"])
+bad("typo of a PETSc prefix", PATCH + ["-kps_type", "preonly"], ["-kps_type", "did you mean -ksp_type?"])
+bad("typo under -ksp_ (tied, linear solve)", PATCH + ["-contact_unilateral", "false", "-ksp_tpye", "preonly"], ["-ksp_tpye", "did you mean -ksp_type?"])
+bad("typo under -snes_ (active set)", PATCH + ["-snes_max_iter", "5"], ["-snes_max_iter", "did you mean -snes_max_it?"])
+bad("typo under -pc_ (no contact)", BLOCK + ["-pc_factor_mat_solver_tpye", "mumps"], ["-pc_factor_mat_solver_tpye", "did you mean -pc_factor_mat_solver_type?"])
+bad("typo under a split's prefix", PATCH + ["-options_file", opts("kkt_fieldsplit"), "-fieldsplit_u_pc_tpye", "lu"], ["-fieldsplit_u_pc_tpye", "did you mean -fieldsplit_u_pc_type?"])
+bad("typo of a MUMPS option", PATCH + ["-kkt_path", "full", "-mat_mumps_icntl7", "2"], ["-mat_mumps_icntl7", "did you mean -mat_mumps_icntl_7?"])
+bad("PETSc option nothing reads", BLOCK + ["-dm_refine", "2"], ["-dm_refine"])
+# no false alarm: options read late (viewers, finalize), only on some paths, or by a split
+good("viewers, reports and finalize-time options", BLOCK + ["-ksp_converged_reason", "-ksp_view", ":" + os.path.join(W, "kspview.txt"),
+                                                            "-options_left", "no", "-malloc_dump", "-log_view", ":" + os.path.join(W, "log.txt")])
+good("full path with PETSc's MUMPS options", PATCH + ["-kkt_path", "full", "-options_file", opts("kkt_mumps"), "-mat_mumps_icntl_24", "1", "-snes_max_it", "20"])
+good("condensed path given PETSc solver options it does not use", PATCH + ["-options_file", opts("kkt_mumps"), "-mat_mumps_cntl_1", "0.01", "-snes_rtol", "1e-10"])
+good("fieldsplit (kkt_fieldsplit.opts)", PATCH + ["-options_file", opts("kkt_fieldsplit")])
+good("PETSc's partitioner options", PATCH + ["-mesh_partitioner", "petsc", "-petscpartitioner_type", "simple"])
+good("option names are case-insensitive (as PETSc)", BLOCK + ["-Block_E", "1e9", "-CONTACT_METHOD", "mortar"])
+good("automatic values said explicitly", HERTZ0 + ["-contact_c", "auto", "-contact_reach", "AUTO", "-hertz_load", "auto"], ranklist=(1,))
+
+# ---------- 2. values outside their domain ----------
+for opt, val, base in [("-contact_c", "0", PATCH), ("-contact_c", "-1", PATCH), ("-contact_c", "inf", PATCH), ("-contact_reach", "-1", PATCH),
+                       ("-mesh_scale", "0", BLOCK), ("-mesh_scale", "nan", BLOCK), ("-hertz_radius", "0", HERTZ0),
+                       ("-hertz_radius", "1,-2", HERTZ0), ("-hertz_radius", "1,2,3", HERTZ0), ("-hertz_radius", "one", HERTZ0),
+                       ("-hertz_load", "0", HERTZ0), ("-kkt_augment", "-1", PATCH), ("-exact_p", "-1", BLOCK),
+                       ("-exact_p", "x", BLOCK), ("-exact_angle", "inf", BLOCK), ("-mms_amplitude", "0", BLOCK),
+                       ("-block_E", "1e308", BLOCK), ("-block_E", "1e-301", BLOCK), ("-block_E", "0", BLOCK),
+                       ("-block_E", "inf", BLOCK), ("-block_E", "nan", BLOCK), ("-block_E", "1e9x", BLOCK),
+                       ("-block_nu", "0.5", BLOCK), ("-block_nu", "-1", BLOCK),
+                       ("-snes_max_it", "0", PATCH), ("-snes_max_it", "-3", PATCH), ("-snes_max_it", "ten", PATCH),
+                       ("-mat_mumps_icntl_4", "5", PATCH), ("-mat_mumps_icntl_7", "1", PATCH), ("-mat_mumps_icntl_7", "8", PATCH),
+                       ("-mat_mumps_icntl_8", "-1", PATCH), ("-mat_mumps_icntl_14", "-5", PATCH), ("-mat_mumps_icntl_58", "0", PATCH),
+                       ("-mat_mumps_icntl_14", "2.5", PATCH), ("-kkt_ldlt", "maybe", PATCH), ("-mesh_check", "2", BLOCK)]:
+    bad("%s %s" % (opt, val), base + [opt, val], [opt], ranklist=(1, 2) if opt in ("-contact_c", "-block_E", "-snes_max_it") else (1,))
+bad("-dirichlet G:n:inf", BLOCK + ["-dirichlet", "bottom:n:inf"], ["-dirichlet", "inf"], ranklist=(1,))
+bad("-dirichlet G:nt", BLOCK + ["-dirichlet", "bottom:nt"], ["-dirichlet", "nt"], ranklist=(1,))
+
+# ---------- 3. options files ----------
+selfinc = write("self.opts", "# includes itself\n-options_file %s\n" % os.path.join(W, "self.opts"))
+a = os.path.join(W, "cycle_a.opts")
+b = write("cycle_b.opts", "-mesh_scale 1\n  -options_file \"%s\" # back to a\n" % a)
+write("cycle_a.opts", "-options_file %s\n" % b)
+missing = os.path.join(W, "nosuch.opts")
+if os.path.exists(missing):
+    os.remove(missing)
+nested_missing = write("nested_missing.opts", "-options_file %s\n" % missing)
+twoopts = write("two_per_line.opts", "-mesh_scale 1 -plane strain\n")
+notopt = write("not_an_option.opts", "mesh_scale 1\n")
+bad("options file includes itself", ["-options_file", selfinc], ["options file", "self.opts", "includes itself"])
+bad("options files a -> b -> a", ["-options_file", a], ["options file", "cycle_a.opts -> ", "cycle_b.opts -> ", "includes itself"])
+bad("cycle through PETSC_OPTIONS", BLOCK, ["self.opts", "includes itself"], env={"PETSC_OPTIONS": "-options_file " + selfinc})
+bad("missing options file", BLOCK + ["-options_file", missing], ["options file", missing])
+bad("missing options file named inside another", ["-options_file", nested_missing], [missing, "nested_missing.opts"])
+bad("a directory as options file", ["-options_file", W], ["options file", W, "directory"])
+bad("-options_file without a name", BLOCK + ["-options_file"], ["-options_file", "missing file name"])
+bad("two options on one line", ["-options_file", twoopts], ["two_per_line.opts", "line 1"], ranklist=(1,))
+bad("a line that is not an option", ["-options_file", notopt], ["not_an_option.opts", "line 1"], ranklist=(1,))
+if os.geteuid() != 0:  # root reads a chmod 000 file anyway
+    unreadable = write("unreadable.opts", "-plane strain\n")
+    os.chmod(unreadable, 0)
+    bad("unreadable options file", BLOCK + ["-options_file", unreadable], [unreadable])
+else:
+    print("skip unreadable (chmod 000) options file: running as root")
+good("the same file twice is no cycle", BLOCK + ["-options_file", write("twice.opts", "-options_file %s\n-options_file %s\n" % (opts("block"), opts("block")))], ranklist=(1,))
+
+# ---------- 4. unknown values of a choice ----------
+for opt, choices, base in [("-plane", ["strain", "stress"], BLOCK), ("-contact_method", ["mortar", "nts"], PATCH),
+                           ("-mesh_partitioner", ["metis", "petsc"], PATCH), ("-kkt_path", ["full", "condensed"], PATCH),
+                           ("-contact_initial", ["gap", "closest", "all"], PATCH)]:
+    bad("%s foo" % opt, base + [opt, "foo"], [opt, "'foo'"] + choices, ranklist=(1, 2) if opt == "-plane" else (1,))
+
+# ---------- scenes from any directory; mesh names ----------
+elsewhere = os.path.join(W, "elsewhere")
+shutil.rmtree(elsewhere, ignore_errors=True)
+os.makedirs(elsewhere)
+good("a scene run from another directory", ["-options_file", opts("hertz"), "-mesh", "hertz_0.msh"], cwd=elsewhere)
+with open(os.path.join(elsewhere, "block.msh"), "w") as f:
+    f.write("$MeshFormat\n")  # a broken block.msh here must win over the build's
+bad("a mesh name found in the current directory wins", ["-options_file", opts("block")], ["block.msh"], ranklist=(1,), cwd=elsewhere)
+bad("-mesh_dir without the file", BLOCK + ["-mesh_dir", W], ["-mesh", "block.msh", W], ranklist=(1, 2))
+good("-geo by name, from the source tree's meshes/", ["-options_file", opts("block"), "-mesh", mesh("block"), "-geo", "block.geo"], ranklist=(1,), cwd=elsewhere)
+bad("-geo that is nowhere", BLOCK + ["-geo", "nosuch.geo"], ["-geo", "nosuch.geo"], ranklist=(1,))
+
+# ---------- -hertz_radius R1,R2: the effective radius R1 R2/(R1 + R2) ----------
+def hertz_a(extra, name):
+    summary = os.path.join(W, name + ".json")
+    rc, out, err = run(HERTZ0 + extra + ["-summary", summary, "-output_vtu", "false", "-output_hdf5", "false"], check=False, timeout=TIMEOUT)
+    return (json.load(open(summary))["hertz_a"] if rc == 0 else None), out
+
+
+(a1, _), (a2, out2) = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3,1.5"], "radius_3_1.5")
+report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3,1.5 is R = 1", "a = %s and %s" % (a1, a2))
+report(re.search(r"radii 3\.? and 1\.5, effective radius R = R1 R2/\(R1 \+ R2\) = 1\.?\n", out2) is not None, "the output states the effective radius")
+
+print("%d passed, %d failed" % (passed, failed))
+raise SystemExit(1 if failed else 0)
