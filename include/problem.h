@@ -7,6 +7,7 @@
  * surfaces, segments, rows; Assembly: K, f, supports, KKT). */
 #ifndef M2D_PROBLEM_H
 #define M2D_PROBLEM_H
+#include "msh.h"
 #include "supports.h"
 #include "units.h"
 
@@ -35,11 +36,12 @@ typedef struct {
   PetscBool      *warm;  /* with contact: the first active set (one per multiplier, every rank), or NULL */
 } M2dProblem;
 
-/* Mesh stage: read the mesh of scene `user`, read the materials, check the
- * groups the options name, pick the reference units and scale. `user` is
- * borrowed and must outlive pb; its body list is completed from the mesh.
- * Collective on comm. */
-PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, M2dProblem *pb);
+/* Mesh stage: the mesh of scene `user` (its -mesh files, or msh on rank 0
+ * when msh is not NULL: an MshMesh named `what` in messages), the materials,
+ * the groups the options name checked, the reference units picked and
+ * applied. `user` is borrowed and must outlive pb; its body list is completed
+ * from the mesh. Collective on comm. */
+PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const char *what, M2dProblem *pb);
 /* Contact and assembly stages for solver path `path` (which decides how the
  * KKT blocks are built). Collective. */
 PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly);

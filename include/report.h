@@ -19,6 +19,15 @@ typedef struct {
   M2dSizeFieldParams size;     /* -estimator_target, -estimator_order_sing */
 } M2dEstimatorOptions;
 
+/* the figures a run is judged by (-1 where not known) */
+typedef struct {
+  M2dErrorEstimate est;             /* the error estimate (reference units; estimate_rel is unit-free) */
+  PetscReal        pressure_l2_rel; /* -hertz: the pressure error against Hertz */
+  PetscReal        true_error_rel;  /* -exact: the energy-norm error, relative */
+  PetscReal        effectivity;     /* -exact: estimate / true error */
+  PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
+} M2dFigures;
+
 /* -error_estimate, -estimator_recovery, -estimator_target, -estimator_order_sing.
  * Collective. */
 PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
@@ -26,10 +35,10 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
 /* -output_dir and -summary writable (created if missing). Collective. */
 PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s);
 /* Fill sum with the run's figures (problem, path, contact results, the error
- * estimate (into *est and sol->eta, when eo->enabled), exact comparisons,
+ * estimate (into fig->est and sol->eta, when eo->enabled), exact comparisons,
  * checks v) and print them. Leaves the interface results in pb->contact in
  * the user's units. Collective. */
-PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum);
+PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum);
 /* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV; the mesh's
  * coordinates are left in the user's units. Collective. */
 PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol);

@@ -2,6 +2,7 @@
  * SNESVINEWTONRSLS (see activeset.h). */
 #include "activeset.h"
 #include "condensed.h"
+#include "optcheck.h"
 #include <petscsnes.h>
 
 #define M2D_MAX_HISTORY 1024
@@ -399,7 +400,7 @@ static PetscErrorCode ContextCreate(M2dProblem *pb, Vec u, Vec lam, Vec active, 
   PetscCall(PetscMemzero(as, sizeof(*as)));
   as->pb              = pb;
   as->kkt             = &pb->kkt;
-  as->c               = pb->s.contact_c > 0 ? pb->s.contact_c : ActiveSetDefaultC(&pb->s, ct);
+  as->c               = pb->s.contact_c_set ? pb->s.contact_c : ActiveSetDefaultC(&pb->s, ct);
   as->monitor         = pb->s.contact_monitor;
   as->hist.max_cycles = 5;
   for (PetscInt e = 0; e < ct->nm.nedge; e++) as->h += ct->nm.len[e];
@@ -615,6 +616,7 @@ PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec la
   PetscCall(ContextCreate(pb, u, lam, active, &as));
   PetscCall(SNESCreate(comm, &snes));
   PetscCall(ConfigureSNES(snes, &as));
+  PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
   if (condensed && !as.vi) PetscCall(SetupCondensed(snes, &as, info));
   else {
     KSP ksp;

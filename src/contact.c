@@ -17,7 +17,7 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c)
   PetscCall(SurfaceGather(m, s->contact_nm, "-contact_nonmortar", &c->nm));
   PetscCall(SurfaceGather(m, s->contact_m, "-contact_mortar", &c->m));
   c->reach = s->reach;
-  if (c->reach <= 0) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   if (s->method == M2D_CONTACT_MORTAR) {
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));

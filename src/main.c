@@ -10,8 +10,9 @@
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
 #include "logging.h"
-#include "report.h"
+#include "optcheck.h"
 #include "optfiles.h"
+#include "step.h"
 #include "util.h"
 
 static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies with Q4 elements and the mortar method.\n"
@@ -37,53 +38,20 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 
 static PetscErrorCode Run(MPI_Comm comm)
 {
-  M2dScene        s;
-  M2dProblem      pb;
-  M2dSolution     sol;
-  M2dVerification v;
+  M2dScene            s;
   M2dEstimatorOptions eo;
-  M2dErrorEstimate    est;
-  M2dSolverPath   path;
-  M2dSummary     *sum;
-  double          t[M2D_STAGE_COUNT + 1], t0 = M2dWallTime();
+  M2dStep             st;
 
   PetscFunctionBeginUser;
   PetscCall(M2dLogRegister());
   PetscCall(SceneReadOptions(comm, &s));
   if (s.help) PetscFunctionReturn(DocumentOptions(comm, &s));
-  PetscCall(ReportCheckPaths(comm, &s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
-
-  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_MESH]));
-  t[M2D_STAGE_MESH] = M2dWallTime();
-  PetscCall(ProblemCreate(comm, &s, &pb));
-  t[M2D_STAGE_MESH] = M2dWallTime() - t[M2D_STAGE_MESH];
-  PetscCall(PetscLogStagePop());
-
-  PetscCall(M2dSolverChoosePath(comm, &pb.s, &path));
-  PetscCall(ProblemSetUp(&pb, path, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
-
-  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
-  t[M2D_STAGE_SOLVE] = M2dWallTime();
-  PetscCall(M2dSolverSolve(&pb, path, &sol));
-  PetscCall(M2dVerifyAnswer(&pb, &sol, &v));
-  t[M2D_STAGE_SOLVE] = M2dWallTime() - t[M2D_STAGE_SOLVE];
-  PetscCall(PetscLogStagePop());
-
-  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
-  t[M2D_STAGE_OUTPUT] = M2dWallTime();
-  PetscCall(PetscCalloc1(1, &sum));
-  PetscCall(ReportCompute(&pb, &sol, &v, &eo, &est, sum));
-  PetscCall(ReportWriteFields(&pb, &sol));
-  t[M2D_STAGE_OUTPUT]  = M2dWallTime() - t[M2D_STAGE_OUTPUT];
-  t[M2D_STAGE_COUNT] = M2dWallTime() - t0;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
-  PetscCall(ReportWriteSummary(&pb, sum, t));
-  PetscCall(PetscLogStagePop());
-
-  PetscCall(PetscFree(sum));
-  PetscCall(M2dSolutionDestroy(&sol));
-  PetscCall(ProblemDestroy(&pb));
+  PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
+  PetscCall(ReportCheckPaths(comm, &s));
+  PetscCall(M2dStepSolve(comm, &s, NULL, NULL, &eo, &st));
+  PetscCall(M2dStepWrite(&st));
+  PetscCall(M2dStepDestroy(&st));
   PetscFunctionReturn(0);
 }
 

@@ -59,20 +59,22 @@ static PetscErrorCode CheckMaterials(MPI_Comm comm, const M2dScene *s)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, M2dProblem *pb)
+PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const char *what, M2dProblem *pb)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(pb, sizeof(*pb)));
   pb->user = user;
+  PetscCheck(!msh && !what, comm, PETSC_ERR_SUP, "meshes in memory: not yet"); /* MeshCreateFromMsh comes with the mesh module's split */
   PetscCall(MeshCreate(comm, user, &pb->mesh));
   PetscCall(SceneReadMaterials(comm, user));
+  PetscCall(SceneCheckOptions(comm, user)); /* typos of the per-body options */
   PetscCall(CheckMaterials(comm, user));
   PetscCall(CheckGroups(comm, user, &pb->mesh));
   PetscCall(M2dUnitsCreate(&pb->mesh, user, &pb->units));
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, 1.0 / pb->units.L));
   pb->s = *user;
   M2dUnitsScaleScene(&pb->units, &pb->s);
-  if (pb->s.hertz && pb->s.hertz_load <= 0) { /* quarter model: the full cylinder carries twice the load */
+  if (pb->s.hertz && !pb->s.hertz_load_set) { /* quarter model: the full cylinder carries twice the load */
     PetscCall(ElasticityPressureResultant(&pb->mesh, &pb->s.load[0], &pb->s.hertz_load));
     pb->s.hertz_load *= 2;
     PetscCheck(pb->s.hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: the load on '%s' is not a compressive force (resultant %g)", user->load[0].group, (double)(pb->s.hertz_load / 2 * pb->units.S * pb->units.L));

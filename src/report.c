@@ -2,6 +2,7 @@
 #include "report.h"
 #include "elasticity.h"
 #include "logging.h"
+#include "options.h"
 #include "util.h"
 #include <string.h>
 #include <sys/stat.h>
@@ -70,13 +71,14 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dSummary *sum)
+static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dFigures *fig, M2dSummary *sum)
 {
   M2dHertzResult h;
   const M2dUnits *un = &pb->units;
 
   PetscFunctionBeginUser;
   PetscCall(ContactHertz(&pb->contact, &pb->s, &h)); /* reference units */
+  fig->pressure_l2_rel = h.pressure_l2_rel;
   SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
   SummaryReal(sum, "", "peak_pressure", h.peak_pressure * un->S);
   SummaryReal(sum, "", "half_width", h.half_width * un->L);
@@ -89,13 +91,13 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dSummary *sum)
 }
 
 /* the interface results (ContactResults already called, reference units) */
-static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dSummary *sum)
+static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dFigures *fig, M2dSummary *sum)
 {
   M2dContact *c = &pb->contact;
   PetscReal   na;
 
   PetscFunctionBeginUser;
-  if (pb->s.hertz) PetscCall(SummarizeHertz(pb, sum));
+  if (pb->s.hertz) PetscCall(SummarizeHertz(pb, fig, sum));
   PetscCall(ContactToUserUnits(c, &pb->units));
   SummaryString(sum, "", "method", pb->s.method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
   SummaryInt(sum, "", "contact_nodes", c->R.n);
@@ -169,18 +171,20 @@ static PetscErrorCode CellFields(const M2dProblem *pb, Vec u, PetscReal scale, P
 
 PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
 {
-  const char *recs[] = {"spr", "average", "M2dRecovery", "M2D_RECOVERY_", NULL};
+  const char *recs[] = {"spr", "average"}; /* order of M2dRecovery */
+  PetscInt    rec    = M2D_RECOVERY_SPR;
 
   PetscFunctionBeginUser;
-  o->enabled  = PETSC_TRUE;
-  o->recovery = M2D_RECOVERY_SPR;
+  o->enabled = PETSC_TRUE;
   M2dSizeFieldDefaults(&o->size);
   PetscOptionsBegin(comm, NULL, "Error estimator", "");
-  PetscCall(PetscOptionsBool("-error_estimate", "estimate the error per cell (cell field error_indicator, summary error_estimate)", "", o->enabled, &o->enabled, NULL));
-  PetscCall(PetscOptionsEnum("-estimator_recovery", "stress recovery of the error estimator: spr (superconvergent patch) or average (nodal averaging)", "", recs, (PetscEnum)o->recovery, (PetscEnum *)&o->recovery, NULL));
-  PetscCall(PetscOptionsReal("-estimator_target", "target relative energy-norm error of the size field", "", o->size.target_rel, &o->size.target_rel, NULL));
-  PetscCall(PetscOptionsReal("-estimator_order_sing", "order in h of the indicator at singular cells (size field)", "", o->size.order_sing, &o->size.order_sing, NULL));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-error_estimate", "estimate the error per cell (cell field error_indicator, summary error_estimate)", o->enabled, &o->enabled));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-estimator_recovery", "stress recovery: spr (superconvergent patch) or average (nodal averaging)", recs, 2, &rec));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_target", "target relative energy-norm error of the size field", o->size.target_rel, &o->size.target_rel, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_order_sing", "order in h of the indicator at singular cells (size field)", o->size.order_sing, &o->size.order_sing, NULL));
   PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
+  o->recovery = (M2dRecovery)rec;
   PetscCheck(o->size.target_rel > 0 && o->size.target_rel < 1, comm, PETSC_ERR_USER_INPUT, "option -estimator_target: %g must be in (0, 1)", (double)o->size.target_rel);
   PetscCheck(o->size.order_sing > 0 && o->size.order_sing <= o->size.order, comm, PETSC_ERR_USER_INPUT, "option -estimator_order_sing: %g must be in (0, %g]", (double)o->size.order_sing, (double)o->size.order);
   PetscFunctionReturn(0);
@@ -189,13 +193,13 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
 /* the indicators (reference units inside; the absolute figures in the user's:
  * an energy per unit thickness scales with S U L), the size field, and the
  * effectivity where the answer is known */
-static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum)
+static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum)
 {
   MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
   const M2dContact *ct   = pb->has_contact ? &pb->contact : NULL;
   PetscInt          nlc  = pb->mesh.cEnd - pb->mesh.cStart;
   PetscReal        *a, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
-  M2dErrorEstimate  vol;
+  M2dErrorEstimate  vol, *est = &fig->est;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(M2D_ETA_FIELDS * nlc + 1, &sol->eta));
@@ -216,6 +220,7 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   SummaryReal(sum, "estimator", "energy_norm", est->energy_norm * scale);
   SummaryReal(sum, "estimator", "eta_max", est->eta_max * scale);
   SummaryReal(sum, "estimator", "expected_cells", nexp);
+  fig->expected_cells = nexp;
   PetscCall(PetscPrintf(comm, "error estimate: %.4e relative (%.4e absolute: volume %.4e, contact %.4e; energy norm %.4e)\n", (double)est->estimate_rel, (double)(est->estimate * scale), (double)(est->volume * scale), (double)(est->contact * scale), (double)(est->energy_norm * scale)));
   if (pb->s.exact == M2D_EXACT_MMS || pb->s.exact == M2D_EXACT_UNIFORM) {
     PetscReal err, nrm;
@@ -223,20 +228,23 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
     SummaryReal(sum, "estimator", "true_error", err * scale);
     SummaryReal(sum, "estimator", "true_error_rel", nrm > 0 ? err / nrm : 0);
     SummaryReal(sum, "estimator", "effectivity", err > 0 ? est->estimate / err : 0);
+    fig->true_error_rel = nrm > 0 ? err / nrm : 0;
+    fig->effectivity    = err > 0 ? est->estimate / err : 0;
     PetscCall(PetscPrintf(comm, "true energy-norm error %.4e, effectivity %.4f\n", (double)(err * scale), (double)(err > 0 ? est->estimate / err : 0)));
   }
   PetscCall(PetscFree3(a, h, hn));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dErrorEstimate *est, M2dSummary *sum)
+PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(est, sizeof(*est)));
+  PetscCall(PetscMemzero(fig, sizeof(*fig)));
+  fig->pressure_l2_rel = fig->true_error_rel = fig->effectivity = -1;
   PetscCall(SummarizeProblem(pb, sol, v, sum));
   if (pb->has_contact) PetscCall(ContactResults(&pb->contact, &pb->kkt, sol->u, sol->lam, sol->active));
-  if (eo->enabled) PetscCall(Estimate(pb, sol, eo, est, sum));
-  if (pb->has_contact) PetscCall(SummarizeContact(pb, sol, sum));
+  if (eo->enabled) PetscCall(Estimate(pb, sol, eo, fig, sum));
+  if (pb->has_contact) PetscCall(SummarizeContact(pb, sol, fig, sum));
   if (pb->s.exact == M2D_EXACT_UNIFORM) {
     PetscReal *f;
     PetscCall(CellFields(pb, sol->u, 1.0, &f));

@@ -1,5 +1,6 @@
 /* solver.c - the solver path and the linear solves (see solver.h). */
 #include "solver.h"
+#include "optcheck.h"
 #include <petscsnes.h>
 #include <string.h>
 
@@ -90,8 +91,9 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)pb->K), &ksp));
   PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
   PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
+  if (contact) PetscCall(KKTSetupKSP(&pb->kkt, ksp));
+  PetscCall(M2dOptionsCheckUnused(PetscObjectComm((PetscObject)ksp))); /* the solver is configured: an option nobody read is a typo */
   if (contact) {
-    PetscCall(KKTSetupKSP(&pb->kkt, ksp));
     PetscCall(KKTSolve(&pb->kkt, ksp, sol->u, sol->lam));
     PetscCall(VecSet(sol->active, 1.0));
   } else PetscCall(KSPSolve(ksp, pb->f, sol->u));

@@ -91,11 +91,11 @@ void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s)
   }
   for (PetscInt k = 0; k < s->ndir; k++)
     for (int d = 0; d < 2; d++) s->dir[k].value[d] /= u->U;
-  if (s->reach > 0) s->reach /= u->L;
-  if (s->contact_c > 0) s->contact_c *= u->L * u->U / u->S; /* lambda / c is a weighted gap (length x displacement) */
+  s->reach /= u->L;
+  s->contact_c *= u->L * u->U / u->S; /* lambda / c is a weighted gap (length x displacement) */
   s->hertz_radius *= u->U / (u->L * u->L); /* the radius enters Hertz as the gap x^2/2R: a displacement over a length^2 */
-  if (s->hertz_load > 0) s->hertz_load /= u->S * u->L;
-  if (s->exact_p > 0) s->exact_p /= u->S;
+  s->hertz_load /= u->S * u->L;
+  s->exact_p /= u->S;
   s->mms_amplitude /= u->U;
   s->mms_wavenumber *= u->L;
 }

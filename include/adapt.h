@@ -1,0 +1,33 @@
+/* adapt.h - model only what the scene needs: the adaptive loop.
+ *
+ * Solve, estimate the error per cell (estimator.h), turn the indicators into
+ * a new element size per cell (M2dSizeField: the error equidistributed over
+ * the cells the target needs), remesh the scene's .geo with gmsh through its
+ * C API driven by that size field (remesh.h: all quads, physical names kept,
+ * no file in between), and solve again - starting from the previous contact
+ * state carried over by position (the first active set of an adapted mesh is
+ * the previous one's), so that after the first mesh the active set settles in
+ * a few steps. Stops at -adapt_target (relative estimate), -adapt_max_steps
+ * or -adapt_max_dofs. Each step prints one line; the summary's "adapt" list
+ * has one object per step and its top-level keys are the final mesh's. */
+#ifndef M2D_ADAPT_H
+#define M2D_ADAPT_H
+#include "report.h"
+
+typedef struct {
+  PetscBool enabled;   /* -adapt */
+  PetscReal target;    /* -adapt_target: stop when the relative estimate is below */
+  PetscInt  max_steps; /* -adapt_max_steps */
+  PetscInt  max_dofs;  /* -adapt_max_dofs: stop before a mesh would exceed it */
+  PetscInt  quads;     /* -adapt_quads (M2dRemeshQuads) */
+  PetscInt  nnumber;   /* -geo_setnumber NAME=VALUE,...: parameters of the .geo */
+  char      number_name[16][64];
+  PetscReal number_value[16];
+} M2dAdaptOptions;
+
+/* Read the -adapt* and -geo_setnumber options. Collective. */
+PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOptions *ao);
+/* Run the scene s adaptively from its .geo (-geo), write the final mesh's
+ * results. Collective. */
+PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, const M2dEstimatorOptions *eo);
+#endif

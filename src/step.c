@@ -1,0 +1,66 @@
+/* step.c - one pass of the data path on one mesh (see step.h). */
+#include "step.h"
+#include "logging.h"
+#include "util.h"
+
+PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src, const M2dContactState *warm, const M2dEstimatorOptions *eo, M2dStep *st)
+{
+  M2dSolverPath path;
+  double        t0 = M2dWallTime(), *t = st->t;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(st, sizeof(*st)));
+  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_MESH]));
+  t[M2D_STAGE_MESH] = M2dWallTime();
+  PetscCall(ProblemCreate(comm, s, src ? src->msh : NULL, src ? src->what : NULL, &st->pb));
+  t[M2D_STAGE_MESH] = M2dWallTime() - t[M2D_STAGE_MESH];
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(M2dSolverChoosePath(comm, &st->pb.s, &path));
+  PetscCall(ProblemSetUp(&st->pb, path, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
+  if (warm && st->pb.has_contact) {
+    PetscCall(PetscMalloc1(st->pb.contact.R.n + 1, &st->pb.warm));
+    PetscCall(ContactStateMask(warm, &st->pb.contact, &st->pb.units, st->pb.warm));
+  }
+
+  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
+  t[M2D_STAGE_SOLVE] = M2dWallTime();
+  PetscCall(M2dSolverSolve(&st->pb, path, &st->sol));
+  PetscCall(M2dVerifyAnswer(&st->pb, &st->sol, &st->v));
+  t[M2D_STAGE_SOLVE] = M2dWallTime() - t[M2D_STAGE_SOLVE];
+  PetscCall(PetscLogStagePop());
+
+  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
+  t[M2D_STAGE_OUTPUT] = M2dWallTime();
+  PetscCall(PetscCalloc1(1, &st->sum));
+  PetscCall(ReportCompute(&st->pb, &st->sol, &st->v, eo, &st->fig, st->sum));
+  t[M2D_STAGE_OUTPUT]  = M2dWallTime() - t[M2D_STAGE_OUTPUT];
+  t[M2D_STAGE_COUNT] = M2dWallTime() - t0;
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dStepWrite(M2dStep *st)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
+  double   t0   = M2dWallTime();
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
+  PetscCall(ReportWriteFields(&st->pb, &st->sol));
+  st->t[M2D_STAGE_OUTPUT] += M2dWallTime() - t0;
+  st->t[M2D_STAGE_COUNT] += M2dWallTime() - t0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, st->t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCall(ReportWriteSummary(&st->pb, st->sum, st->t));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dStepDestroy(M2dStep *st)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(st->sum));
+  PetscCall(M2dSolutionDestroy(&st->sol));
+  PetscCall(ProblemDestroy(&st->pb));
+  PetscFunctionReturn(0);
+}
