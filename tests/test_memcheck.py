@@ -3,7 +3,7 @@
 valgrind runs (1 rank, suppressions in tests/valgrind.supp for Open MPI and
 the libraries under it):
   S2 patch test      options/patch_uniform.opts
-  Hertz level 0      options/hertz.opts -mesh build/meshes/hertz_0.msh
+  Hertz level 0      options/hertz.opts -mesh <M2D_MESHES>/hertz_0.msh
   bad input          options/patch_uniform.opts -mesh <missing file>
 Each must exit with its usual code (0, 0, 1; the bad input with its one
 "mortar2d: error:" line), and valgrind must report
