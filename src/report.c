@@ -64,7 +64,8 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
-  SummaryReal(sum, "", "acceptance_tol", M2D_VERIFY_TOL);
+  SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
+  SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "units", "length", pb->units.L);
   SummaryReal(sum, "units", "modulus", pb->units.E);
   SummaryReal(sum, "units", "stress", pb->units.S);

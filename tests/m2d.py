@@ -1,53 +1,229 @@
-"""Helpers for the mortar2d tests: run the program, read its summary and output.
+"""The one helper module of the mortar2d tests and tools: where things are, how
+to start the program (on 1 or N ranks, with every Open MPI setting it needs),
+and how to read what it writes (summary JSON, contact CSV, HDF5 fields).
 
-Tests are plain Python scripts run by ctest (tests/CMakeLists.txt passes the
-paths in the environment); a test fails by raising (non-zero exit)."""
+Tests are plain Python scripts run by ctest from this directory (so `import m2d`
+works); a test fails by raising (non-zero exit). Tools in tools/ import it with
+    sys.path.insert(0, os.path.join(<source>, "tests")); import m2d
+
+Paths come from the environment tests/CMakeLists.txt gives every test; the
+defaults are only for running a script by hand from a tree built in build/:
+    M2D_EXE     the program              default <source>/build/mortar2d
+    M2D_MESHES  the generated .msh files default <source>/build/meshes
+    M2D_SOURCE  the source tree          default the parent of this directory
+    M2D_WORK    scratch output           default <source>/build/test-output
+    MPIEXEC     Open MPI's launcher      default mpiexec
+
+Every process this module starts gets MPI_ENV (running as root in the CI
+container, more ranks than cores on a shared machine): nothing else in the
+tests or tools sets these."""
+import csv
 import json
 import os
+import shlex
+import signal
 import subprocess
 import sys
+import tempfile
+import threading
+import time
+from typing import NamedTuple
 
-EXE = os.environ.get("M2D_EXE", "build/mortar2d")
-SRC = os.environ.get("M2D_SOURCE", os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-MESHES = os.environ.get("M2D_MESHES", os.path.join(SRC, "build", "meshes"))
-WORK = os.environ.get("M2D_WORK", os.path.join(SRC, "build", "test-output"))
-MPIEXEC = os.environ.get("MPIEXEC", "mpiexec")
+SRC = os.path.abspath(os.environ.get("M2D_SOURCE") or os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EXE = os.path.abspath(os.environ.get("M2D_EXE") or os.path.join(SRC, "build", "mortar2d"))
+MESHES = os.path.abspath(os.environ.get("M2D_MESHES") or os.path.join(SRC, "build", "meshes"))
+WORK = os.path.abspath(os.environ.get("M2D_WORK") or os.path.join(SRC, "build", "test-output"))
+MPIEXEC = os.environ.get("MPIEXEC") or "mpiexec"
+
+# Open MPI: allow root (containers, CI), allow more ranks than free cores, and
+# no "mpiexec noticed that process rank N exited ..." banner after a rank's
+# error exit (the tests check that stderr holds only the program's own line)
+MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1", "OMPI_MCA_orte_execute_quiet": "1"}
 
 
+# ---------------------------------------------------------------- paths
 def mesh(name):
+    """Path of a generated mesh, e.g. mesh("hertz_0")."""
     return os.path.join(MESHES, name + ".msh")
 
 
 def opts(name):
+    """Path of a scene or solver options file, e.g. opts("hertz")."""
     return os.path.join(SRC, "options", name + ".opts")
 
 
 def workdir(name):
+    """WORK/name, created."""
     d = os.path.join(WORK, name)
     os.makedirs(d, exist_ok=True)
     return d
 
 
-def run(args, ranks=1, check=True, timeout=600):
-    """Run mortar2d from the source directory; return (rc, stdout, stderr)."""
-    cmd = [EXE] + [str(a) for a in args]
+def hertz_mesh(level):
+    """Path of Hertz level N in MESHES; tools/hertz_mesh.sh makes it when it is
+    missing or older than meshes/hertz.geo (levels above 4 are not built by CMake)."""
+    out = mesh("hertz_%d" % level)
+    r = launch(["bash", os.path.join(SRC, "tools", "hertz_mesh.sh"), str(level), out], timeout=None)
+    if r.rc != 0:
+        raise RuntimeError("tools/hertz_mesh.sh %d %s failed (exit %s): %s" % (level, out, r.rc, r.stderr[-2000:]))
+    return out
+
+
+# ---------------------------------------------------------------- running
+def mpi_env(**extra):
+    """The environment of every process started here: ours, MPI_ENV, extra."""
+    e = dict(os.environ)
+    e.update(MPI_ENV)
+    e.update(extra)
+    return e
+
+
+def command(args, ranks=1, exe=None, wrapper=()):
+    """The command line of the program on `ranks` ranks; `wrapper` goes in front
+    of the program on every rank (valgrind, GNU time, ...)."""
+    cmd = list(wrapper) + [exe or EXE] + [str(a) for a in args]
     if ranks > 1:
-        cmd = [MPIEXEC, "--oversubscribe", "-n", str(ranks)] + cmd
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, timeout=timeout, env=env)
-    if check and p.returncode != 0:
-        sys.stderr.write("command failed: %s\n%s\n%s\n" % (" ".join(cmd), p.stdout, p.stderr))
+        cmd = [MPIEXEC, "-n", str(ranks)] + cmd
+    return cmd
+
+
+class Run(NamedTuple):
+    cmd: list
+    rc: object          # exit code (negative: killed by that signal); None: timed out
+    stdout: str         # "" when written to a file (launch(stdout=PATH))
+    stderr: str         # "" when merged into stdout
+    wall: float         # seconds
+    timed_out: bool
+    maxrss_mb: float    # peak resident memory of the process (of mpiexec's tree on N ranks)
+    cpu_s: float        # user + system seconds of the process and its children
+
+    @property
+    def cmdline(self):
+        return shlex.join(self.cmd)
+
+
+def _session_members(sid):
+    """pids of the live processes of session sid (Linux /proc)."""
+    pids = []
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % d) as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            if int(fields[3]) == sid:
+                pids.append(int(d))
+        except (OSError, IndexError, ValueError):
+            pass
+    return pids
+
+
+def _kill_session(pid):
+    """End what the process `pid` started: mpiexec puts every rank in a process
+    group of its own, but they stay in the session created for it here."""
+    try:
+        os.kill(pid, signal.SIGTERM)    # mpiexec ends its ranks on SIGTERM
+    except ProcessLookupError:
+        pass
+    for _ in range(20):
+        if not _session_members(pid):
+            return
+        time.sleep(0.1)
+    for p in _session_members(pid):
+        try:
+            os.kill(p, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
+def launch(cmd, timeout=600, cwd=None, env=None, stdout=None, merge=False):
+    """Run cmd (a list) in its own session from cwd (default SRC) with
+    mpi_env(**env); return a Run. A run longer than `timeout` seconds (None: no
+    limit) is ended with everything it started, and Run.rc is None. stdout=PATH
+    writes the output to that file instead of Run.stdout; merge=True sends
+    stderr there too."""
+    out = open(stdout, "w+b") if stdout else tempfile.TemporaryFile()
+    err = subprocess.STDOUT if merge else tempfile.TemporaryFile()
+    t0 = time.time()
+    try:
+        p = subprocess.Popen(cmd, cwd=cwd or SRC, env=mpi_env(**(env or {})), stdin=subprocess.DEVNULL,
+                             stdout=out, stderr=err, start_new_session=True)
+        expired = []
+
+        def expire():
+            expired.append(True)
+            _kill_session(p.pid)
+        timer = threading.Timer(timeout, expire) if timeout else None
+        if timer:
+            timer.start()
+        try:
+            _, status, ru = os.wait4(p.pid, 0)
+        finally:
+            if timer:
+                timer.cancel()
+        p.returncode = os.waitstatus_to_exitcode(status)
+        wall = time.time() - t0
+        if expired:
+            _kill_session(p.pid)    # what is left of the ranks
+        texts = []
+        for f in (out, err):
+            if f is subprocess.STDOUT or stdout and f is out:
+                texts.append("")
+                continue
+            f.seek(0)
+            texts.append(f.read().decode(errors="replace"))
+    finally:
+        out.close()
+        if err is not subprocess.STDOUT:
+            err.close()
+    return Run(cmd, None if expired else p.returncode, texts[0], texts[1], wall, bool(expired),
+               ru.ru_maxrss / 1024.0, ru.ru_utime + ru.ru_stime)
+
+
+def run(args, ranks=1, check=True, timeout=600, **kw):
+    """Run the program with args on `ranks` ranks; return (rc, stdout, stderr).
+    check: a non-zero exit prints the command and its output and exits 1.
+    A timeout raises subprocess.TimeoutExpired (after ending the run).
+    kw: exe, wrapper (see command), cwd, env (see launch)."""
+    r = launch(command(args, ranks, kw.pop("exe", None), kw.pop("wrapper", ())), timeout=timeout, **kw)
+    if r.timed_out:
+        raise subprocess.TimeoutExpired(r.cmd, timeout, r.stdout, r.stderr)
+    if check and r.rc != 0:
+        sys.stderr.write("command failed (exit %d): %s\n%s\n%s\n" % (r.rc, r.cmdline, r.stdout, r.stderr))
         raise SystemExit(1)
-    return p.returncode, p.stdout, p.stderr
+    return r.rc, r.stdout, r.stderr
 
 
 def solve(name, args, ranks=1):
-    """Run with output in WORK/name; return the summary dict."""
+    """Run with output in WORK/name (an old summary removed first); return the summary dict."""
     d = workdir(name)
     summary = os.path.join(d, "summary.json")
+    if os.path.exists(summary):
+        os.remove(summary)
     run(list(args) + ["-output_dir", d, "-summary", summary], ranks=ranks)
-    with open(summary) as f:
+    return read_json(summary)
+
+
+# ---------------------------------------------------------------- reading the output
+def read_json(path):
+    with open(path) as f:
         return json.load(f)
+
+
+def read_csv(path):
+    """Rows of a CSV written by the program (NAME_contact.csv), as dicts of floats."""
+    with open(path) as f:
+        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def csv_columns(path):
+    """The columns of read_csv(path) as numpy arrays, by name (file order)."""
+    import numpy as np
+    with open(path) as f:
+        names = next(csv.reader(f))
+    rows = read_csv(path)
+    return {k: np.array([r[k] for r in rows], dtype=float) for k in names}
 
 
 def read_h5(path):
@@ -82,7 +258,29 @@ def sorted_fields(path, digits=9):
     return ({k: v[vkey] for k, v in vf.items()}, {k: v[ckey] for k, v in cf.items()}, xy[vkey], cen[ckey])
 
 
+# ---------------------------------------------------------------- checks
 def check(cond, msg):
-    print(("ok   " if cond else "FAIL ") + msg)
+    """Print the check; stop the test at the first failure."""
+    print(("ok   " if cond else "FAIL ") + msg, flush=True)
     if not cond:
         raise SystemExit(1)
+
+
+class Tally:
+    """Checks that all run and are counted; finish() prints the count and exits
+    1 if any failed."""
+
+    def __init__(self):
+        self.passed = self.failed = 0
+
+    def check(self, cond, msg, detail=""):
+        print(("ok   " if cond else "FAIL ") + msg + (": " + detail if detail else ""), flush=True)
+        if cond:
+            self.passed += 1
+        else:
+            self.failed += 1
+        return cond
+
+    def finish(self):
+        print("%d passed, %d failed" % (self.passed, self.failed), flush=True)
+        raise SystemExit(1 if self.failed else 0)

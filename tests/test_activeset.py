@@ -8,9 +8,8 @@
    part, pressure > 0 and gap 0 on the rest;
  - SNESVINEWTONRSLS gives the same answers as the semismooth Newton method;
  - a maximum step count ends with a clear message and a nonzero exit."""
-import csv
 import numpy as np
-from m2d import check, mesh, opts, read_h5, run, solve, workdir
+from m2d import check, mesh, opts, read_csv, read_h5, run, solve, workdir
 
 E, nu, g0 = 1e9, 0.3, 0.01
 base = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_gap"), "-pressure", "", "-output_vtu", "0", "-output_name", "sol"]
@@ -18,8 +17,7 @@ sup = "lower_bottom:y,lower_origin:x,lower_left:x,upper_left:x"
 
 
 def contact_csv(tag, name="sol"):
-    with open(workdir(tag) + "/%s_contact.csv" % name) as f:
-        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    return read_csv(workdir(tag) + "/%s_contact.csv" % name)
 
 
 for solver in (["-snes_type", "newtonls"], ["-snes_type", "vinewtonrsls"]):

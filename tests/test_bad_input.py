@@ -5,15 +5,16 @@ option or physical group), and must leave a previous result in the same
 
 The broken meshes are written into the work directory at test time. Some cases
 also run on 2 ranks; there Open MPI's own "job aborted" banner (written by
-mpiexec, not by mortar2d) is switched off with OMPI_MCA_orte_execute_quiet."""
+mpiexec, not by mortar2d) is switched off (OMPI_MCA_orte_execute_quiet in
+m2d.MPI_ENV)."""
 import os
 import random
 import shutil
 import subprocess
 
-from m2d import mesh, opts, run, solve, workdir
+from m2d import MPI_ENV, mesh, opts, run, solve, workdir
 
-os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
+assert MPI_ENV.get("OMPI_MCA_orte_execute_quiet") == "1"
 TIMEOUT = 60
 
 W = workdir("bad_input")
@@ -33,7 +34,7 @@ def report(ok, what, detail=""):
 
 # ---------- a good result that the bad runs must not destroy ----------
 shutil.rmtree(OUT, ignore_errors=True)
-good = solve("bad_input/out", ["-options_file", opts("block")])
+good = solve("bad_input/out", ["-options_file", opts("block"), "-mesh", mesh("block")])
 assert good["cells"] == 16, good
 KEPT = [os.path.join(OUT, n) for n in ("block.h5", "block.xmf", "block.vtu", "summary.json")]
 
@@ -172,7 +173,7 @@ else:
 for name, extra, culprits, ranklist in CASES:
     for ranks in ranklist:
         what = "%s [%d rank%s]" % (name, ranks, "s" if ranks > 1 else "")
-        args = ["-options_file", opts("block"), "-output_dir", OUT, "-summary", SUMMARY] + extra
+        args = ["-options_file", opts("block"), "-mesh", mesh("block"), "-output_dir", OUT, "-summary", SUMMARY] + extra
         try:
             rc, out, err = run(args, ranks=ranks, check=False, timeout=TIMEOUT)
         except subprocess.TimeoutExpired:

@@ -1,8 +1,11 @@
 """S4 hard cases of the mortar method (one check line each, then a count):
  1. interface mesh ratios 1:10 and 1:30 (patch_2_20, patch_20_2, patch_1_30,
     patch_30_1), fine and coarse side as non-mortar: mortar passes the patch
-    test in all 8 runs (NTS printed, not asserted);
+    test in all 8 runs; NTS passes it with the fine side non-mortar and fails
+    it by more than half of p with the coarse side non-mortar;
  2. stiffness contrast 1e6 each way (upper E = 1e15 and 1e3, lower 1e9) on S2;
+    with the stiff body floating, the round-off floor grows with the contrast
+    (held to 3e-14 x contrast at 1e3 ... 1e6), with it supported it is gone;
  3. nearly incompressible bodies, nu = 0.49 and 0.4999 in plane strain: full
     integration is refused with one line naming -q4_integration sri (it locks:
     Hertz level 2 at nu = 0.4999 had a pressure error of 0.667 before the
@@ -10,7 +13,8 @@
     error stays within 1.5x of the nu = 0.3 error;
  4. interface inclined at 30 degrees (patch_incl30), self-equilibrated uniaxial
     stress normal to the interface, supports from the exact solution: sigma_nn
-    = -p, sigma_tt = sigma_tn = 0 in both bodies, contact force p x 1;
+    = -p, sigma_tt = sigma_tn = 0 in both bodies, the displacement is the
+    exact linear field, contact force p x 1;
  5. contact zones ending inside an edge (S1 with the lower body as
     non-mortar), non-mortar nodes projecting onto mortar nodes (patch_match and
     an exactly matching mesh written here), slivers of 1e-13 at the end of the
@@ -19,30 +23,19 @@
  7. a body held only by contact (default, full KKT path, fieldsplit) and
     bodies held by nothing (one clear error line naming the body).
 The "patch test" is max over cells of |sigma - exact| / p below 1e-10."""
-import csv
-import json
 import math
 import os
 import re
-import sys
 
 import numpy as np
-from m2d import mesh, opts, read_h5, run, workdir
+from m2d import Tally, mesh, opts, read_csv, read_h5, read_json, run, workdir
 
 TOL = 1e-10
 E, NU, P = 1e9, 0.3, 1e6
-S2 = ["-options_file", opts("patch_uniform"), "-output_vtu", "0", "-output_name", "sol"]
+S2 = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-output_vtu", "0", "-output_name", "sol"]
 LOWER_NM = ["-contact_nonmortar", "lower_top", "-contact_mortar", "upper_bottom"]
-passed = failed = 0
-
-
-def check(cond, msg):
-    global passed, failed
-    print(("ok   " if cond else "FAIL ") + msg, flush=True)
-    if cond:
-        passed += 1
-    else:
-        failed += 1
+T = Tally()
+check = T.check
 
 
 def note(msg):
@@ -57,10 +50,7 @@ def solve(tag, args):
     if os.path.exists(sfile):
         os.remove(sfile)
     rc, out, err = run(list(args) + ["-output_dir", d, "-summary", sfile], check=False)
-    s = None
-    if rc == 0 and os.path.exists(sfile):
-        with open(sfile) as f:
-            s = json.load(f)
+    s = read_json(sfile) if rc == 0 and os.path.exists(sfile) else None
     return rc, s, out, err
 
 
@@ -85,9 +75,8 @@ def finite_json(x):
 
 
 def contact_rows(tag, name="sol"):
-    with open(os.path.join(workdir("hard_" + tag), name + "_contact.csv")) as f:
-        rows = list(csv.DictReader(f))
-    return rows, [[float(v) for v in r.values()] for r in rows]
+    rows = read_csv(os.path.join(workdir("hard_" + tag), name + "_contact.csv"))
+    return rows, [list(r.values()) for r in rows]
 
 
 def body_errors(tag, p, name="sol"):
@@ -122,6 +111,12 @@ for m, (nup, nlo) in ratio_meshes.items():
                 note("%s %s non-mortar %s: exit %d: %s" % (m, side, method, rc, last_error(e)))
         note("%s (%d:%d), %s (%s side) non-mortar: mortar %.2e, NTS %.2e" % (m, nup, nlo, side, kind, err["mortar"], err["nts"]))
         check(err["mortar"] < TOL, "ratio %d:%d, %s side non-mortar: mortar patch test (%.2e)" % (nup, nlo, kind, err["mortar"]))
+        # NTS: the fine side as non-mortar passes the patch test; the coarse
+        # side's few nodes cannot carry the uniform pressure: an O(p) error
+        if kind == "fine":
+            check(err["nts"] < TOL, "ratio %d:%d, fine side non-mortar: NTS passes the patch test too (%.2e)" % (nup, nlo, err["nts"]))
+        else:
+            check(err["nts"] > 0.5, "ratio %d:%d, coarse side non-mortar: NTS fails the patch test by more than p/2 (%.2e)" % (nup, nlo, err["nts"]))
 
 # ---------------------------------------------------------------- 2. stiffness contrast
 print("== 2. stiffness contrast 1e6 (lower E = 1e9)")
@@ -149,9 +144,12 @@ for Eu in ("1e15", "1e3"):
 # of its nodal displacements is already ~ eps (E_up/E_lo)(H/h) p ~ 5e-10 p of stress.
 # The error should grow like the contrast (printed), and vanish when the stiff
 # body is the supported one (same interface, same contrast, load from below).
+# Held to the same 3e-14 x contrast as E = 1e15 above (3e-8 at 1e6).
 for Eu in ("1e12", "1e13", "1e14"):
     rc, s, out, e = solve("contrast_scan_%s" % Eu, S2 + ["-upper_E", Eu])
-    note("upper E = %s (contrast %.0e): patch test %s" % (Eu, float(Eu) / E, "%.2e" % perr(s) if s else last_error(e)))
+    contrast = float(Eu) / E
+    check(s is not None and perr(s) < 3e-14 * contrast, "upper E = %s (contrast %.0e): patch test below 3e-14 x contrast = %.0e (%s)"
+          % (Eu, contrast, 3e-14 * contrast, "%.2e" % perr(s) if s else last_error(e)))
 rc, s, out, e = solve("contrast_1e15_stiff_held", S2 + ["-upper_E", "1e15", "-dirichlet", "upper_top:y,upper_left:x,lower_left:x,lower_origin:x", "-pressure", "lower_bottom:1e6"])
 check(s is not None and perr(s) < TOL, "upper E = 1e15 held at its top, p on the lower bottom (soft body moves): patch test (%s)" % ("%.2e" % perr(s) if s else last_error(e)))
 
@@ -215,7 +213,7 @@ for side, pair in (("upper", []), ("lower", LOWER_NM)):
         worst = max(worst, *v)
         note("%s non-mortar, body %d: |snn+p|/p %.2e, |stt|/p %.2e, |stn|/p %.2e" % (side, k, *v))
     uerr = np.abs(vf["displacement"][:, :2] - xy[:, :2] @ eps.T).max() / np.abs(xy[:, :2] @ eps.T).max()
-    note("%s non-mortar: displacement vs exact eps.x: %.1e relative" % (side, uerr))
+    check(uerr < TOL, "inclined, %s non-mortar: displacement = exact eps.x to %.1e relative" % (side, uerr))
     check(worst < TOL, "inclined, %s non-mortar: sigma_nn = -p, sigma_tt = sigma_tn = 0 in both bodies (%.2e)" % (side, worst))
     sign = 1 if side == "upper" else -1
     ferr = max(abs(s["contact_force"] / P - 1), abs(s["contact_force_x"] / P - sign * n[0]), abs(s["contact_force_y"] / P - sign * n[1]))
@@ -223,7 +221,7 @@ for side, pair in (("upper", []), ("lower", LOWER_NM)):
 
 # ---------------------------------------------------------------- 5. zone ends, coincident nodes, slivers
 print("== 5. contact zones ending inside an edge, coincident nodes, slivers")
-S1 = ["-options_file", opts("seed_patch"), "-output_vtu", "0", "-output_name", "sol"]
+S1 = ["-options_file", opts("seed_patch"), "-mesh", mesh("seed_patch"), "-output_vtu", "0", "-output_name", "sol"]
 sy_max = {}
 for side, pair in (("upper", []), ("lower", LOWER_NM)):
     tag = "s1_%s" % side
@@ -325,5 +323,4 @@ for k, (label, args) in enumerate(free):
             and not re.search(r"factor|mumps|petsc error|singular|pivot", out + e, re.I) and "active set step" not in out)
     check(good, "%s: exit %d, stopped before any solve with: %s" % (label, rc, msg))
 
-print("%d passed, %d failed" % (passed, failed))
-sys.exit(1 if failed else 0)
+T.finish()

@@ -3,7 +3,7 @@
 valgrind runs (1 rank, suppressions in tests/valgrind.supp for Open MPI and
 the libraries under it):
   S2 patch test      options/patch_uniform.opts
-  Hertz level 0      options/hertz.opts -mesh build/meshes/hertz_0.msh
+  Hertz level 0      options/hertz.opts -mesh <M2D_MESHES>/hertz_0.msh
   bad input          options/patch_uniform.opts -mesh <missing file>
 Each must exit with its usual code (0, 0, 1; the bad input with its one
 "mortar2d: error:" line), and valgrind must report
@@ -27,12 +27,11 @@ import argparse
 import os
 import re
 import shutil
-import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, MPIEXEC, SRC, mesh, opts, workdir
+from m2d import EXE, SRC, command, launch, mesh, opts, workdir
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--error-paths", action="store_true")
@@ -56,10 +55,9 @@ def report(ok, what, detail=""):
         failed += 1
 
 
-def env():
-    # HWLOC_COMPONENTS=-x86: hwloc's x86 CPUID backend does not work under
-    # valgrind and says so on stderr; the program's stderr is checked here.
-    return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", HWLOC_COMPONENTS="-x86")
+# hwloc's x86 CPUID backend does not work under valgrind and says so on
+# stderr; the program's stderr is checked here.
+ENV = {"HWLOC_COMPONENTS": "-x86"}
 
 
 missing = os.path.join(W, "nosuch.msh")
@@ -68,15 +66,15 @@ if os.path.exists(missing):
 
 # (name, args, expected exit code)
 CASES = [
-    ("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform")], 0),
+    ("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")], 0),
     ("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")], 0),
     ("bad input: missing mesh file", ["-options_file", opts("patch_uniform"), "-mesh", missing], 1),
 ]
 if ARGS.error_paths:
     CASES += [
-        ("error path: -lower_E -1", ["-options_file", opts("patch_uniform"), "-lower_E", "-1"], 1),
-        ("error path: -contact_nonmortar nosuch", ["-options_file", opts("patch_uniform"), "-contact_nonmortar", "nosuch"], 1),
-        ("error path: -contact_mortar upper_top", ["-options_file", opts("patch_uniform"), "-contact_mortar", "upper_top"], 1),
+        ("error path: -lower_E -1", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-lower_E", "-1"], 1),
+        ("error path: -contact_nonmortar nosuch", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_nonmortar", "nosuch"], 1),
+        ("error path: -contact_mortar upper_top", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_mortar", "upper_top"], 1),
     ]
 
 # ---------------------------------------------------------------- valgrind log
@@ -142,19 +140,13 @@ def valgrind_case(i, name, args, want_rc):
     out = os.path.join(W, "out%d" % i)
     shutil.rmtree(out, ignore_errors=True)
     logf = os.path.join(W, "valgrind%d.log" % i)
-    cmd = ["valgrind", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
-           "--show-leak-kinds=definite", "--suppressions=" + SUPP, "--num-callers=50", "--track-origins=yes",
-           "--fullpath-after=" + os.path.join(SRC, ""), "--log-file=" + logf,
-           EXE] + args + ["-output_dir", out, "-contact_monitor", "0"]
-    t0 = time.time()
-    try:
-        p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, errors="replace", timeout=TIMEOUT, env=env())
-        rc, so, se = p.returncode, p.stdout, p.stderr
-    except subprocess.TimeoutExpired:
-        rc, so, se = None, "", ""
-    dt = time.time() - t0
+    valgrind = ["valgrind", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
+                "--show-leak-kinds=definite", "--suppressions=" + SUPP, "--num-callers=50", "--track-origins=yes",
+                "--fullpath-after=" + os.path.join(SRC, ""), "--log-file=" + logf]
+    r = launch(command(args + ["-output_dir", out, "-contact_monitor", "0"], wrapper=valgrind), timeout=TIMEOUT, env=ENV)
     log = open(logf, errors="replace").read() if os.path.exists(logf) else ""
-    return dict(name=name, cmd=cmd, rc=rc, want=want_rc, stdout=so, stderr=se, log=log, logf=logf, time=dt, out=out)
+    return dict(name=name, cmd=r.cmd, rc=r.rc, want=want_rc, stdout=r.stdout, stderr=r.stderr, log=log, logf=logf,
+                time=r.wall, out=out)
 
 
 def check_valgrind(r):
@@ -209,26 +201,22 @@ def malloc_case(name, args, ranks=1):
     what = "-malloc_debug -malloc_dump: %s" % name
     out = os.path.join(W, "malloc_out")
     shutil.rmtree(out, ignore_errors=True)
-    cmd = [EXE] + args + ["-output_dir", out, "-contact_monitor", "0", "-malloc_debug", "-malloc_dump"]
-    if ranks > 1:
-        cmd = [MPIEXEC, "--oversubscribe", "-n", str(ranks)] + cmd
-    t0 = time.time()
-    try:
-        p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, errors="replace", timeout=TIMEOUT, env=env())
-    except subprocess.TimeoutExpired:
-        report(False, what, "no exit within %d s -- %s" % (TIMEOUT, " ".join(cmd)))
+    p = launch(command(args + ["-output_dir", out, "-contact_monitor", "0", "-malloc_debug", "-malloc_dump"], ranks),
+               timeout=TIMEOUT, env=ENV)
+    if p.timed_out:
+        report(False, what, "no exit within %d s -- %s" % (TIMEOUT, p.cmdline))
         return
     leaks = [l for l in (p.stdout + "\n" + p.stderr).splitlines() if UNFREED.search(l)]
     bad = []
-    if p.returncode != 0:
-        bad.append("exit code %d (want 0); stderr: %s" % (p.returncode, p.stderr[-800:]))
+    if p.rc != 0:
+        bad.append("exit code %d (want 0); stderr: %s" % (p.rc, p.stderr[-800:]))
     if p.stderr.strip():
         bad.append("stderr not empty: %r" % p.stderr[-800:])
     if leaks:
         bad.append("PETSc reports %d unfreed block(s):\n      %s" % (len(leaks), "\n      ".join(leaks[:20])))
-    detail = "%.1f s, exit %d" % (time.time() - t0, p.returncode)
+    detail = "%.1f s, exit %d" % (p.wall, p.rc)
     if bad:
-        report(False, what, "%s\n    command: %s\n    %s" % (detail, " ".join(cmd), "\n    ".join(bad)))
+        report(False, what, "%s\n    command: %s\n    %s" % (detail, p.cmdline, "\n    ".join(bad)))
     else:
         report(True, what, detail + ", nothing unfreed")
 
@@ -249,7 +237,7 @@ def main():
         futs = [pool.submit(valgrind_case, i, n, a, rc) for i, (n, a, rc) in enumerate(CASES)]
         for f in futs:
             check_valgrind(f.result())
-    malloc_case("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform")])
+    malloc_case("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")])
     malloc_case("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")])
     # 2 ranks: the plex built per rank, the condensed path's MUMPS on 2 ranks, the full path, the tied solve
     for extra in ([], ["-kkt_path", "full"], ["-contact_unilateral", "0"], ["-mesh_partitioner", "petsc"]):

@@ -28,7 +28,7 @@ for scene in ("s2", "s1"):
         p0, p1 = v0["contact_pressure"], v1["contact_pressure"]
         dp = np.abs(p1 - p0).max() / np.abs(p0).max()
         check(du < 1e-9 and dp < 1e-9, "%s %s vs mumps_aij: displacement %.1e, contact pressure %.1e relative" % (scene, name, du, dp))
-rc, out, err = run(["-options_file", opts("patch_uniform"), "-options_file", opts("kkt_fieldsplit"), "-kkt_augment", "0", "-output_dir", workdir("solver_noaug")], check=False)
+rc, out, err = run(["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-options_file", opts("kkt_fieldsplit"), "-kkt_augment", "0", "-output_dir", workdir("solver_noaug")], check=False)
 check(rc == 1 and "-kkt_augment" in err and len(err.strip().splitlines()) == 1, "fieldsplit without augmentation: one clear line: %s" % err.strip())
-rc, out, err = run(["-options_file", opts("patch_uniform"), "-kkt_mat", "nest", "-output_dir", workdir("solver_nestlu")], check=False)
+rc, out, err = run(["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-kkt_mat", "nest", "-output_dir", workdir("solver_nestlu")], check=False)
 check(rc == 1 and "-kkt_mat" in err, "LU on a MatNest: %s" % err.strip())

@@ -31,7 +31,7 @@ def one_line_error(tag, args, ranks):
 
 
 def accepted(s):
-    return s["residual_rel"] <= s["acceptance_tol"] and s["complementarity"] <= s["acceptance_tol"]
+    return s["residual_rel"] <= s["residual_tol"] and s["complementarity"] <= s["complementarity_tol"]
 
 
 def patch_error(s):

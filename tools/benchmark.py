@@ -22,9 +22,9 @@ memory files. Output files (VTU/HDF5/contact CSV) are off in the timed runs.
 Peak memory: GNU time (/usr/bin/time -f "%M %e %U %S") around every rank
 (2 ranks: mpiexec ... sh -c 'exec /usr/bin/time ... -o mem.$OMPI_COMM_WORLD_RANK
 mortar2d ...'), the CSV gives the max over the ranks (peak_mb) and the sum
-(peak_mb_sum). Cross-check: ru_maxrss of os.wait4() on the launched process
-(for 2 ranks this is the max over mpiexec and its descendants). Without GNU
-time the script falls back to wait4 (and says so); if neither works it stops.
+(peak_mb_sum). Cross-check: ru_maxrss of the launched process (m2d.launch,
+os.wait4; for 2 ranks the max over mpiexec and its descendants). Without GNU
+time the script falls back to that (and says so); if neither works it stops.
 
 Timings: the summary's time{mesh, contact, assembly, solve, output, total}
 (seconds, max over ranks); factorization = MatLUFactorSym + MatLUFactorNum
@@ -56,6 +56,8 @@ the partitioners (-petscpartitioner_type) on 2 ranks for the tied reference.
 
 The executable is copied to <out>/mortar2d at the start (others may rebuild
 build/mortar2d while this runs); its sha256 and the git state are printed.
+Programs are started and meshes found through tests/m2d.py (M2D_EXE and
+M2D_MESHES choose another build; Hertz levels above 4 are made on demand).
 
   /usr/bin/python3 tools/benchmark.py [--levels 0,1,2,3,4] [--quick]
         [--s1-levels 1,2,4,8] [--orderings] [--only-orderings] [--out DIR]
@@ -69,19 +71,19 @@ import math
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
-import threading
 import time
 
 import numpy as np
 
-SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-HERTZ_OPTS = os.path.join(SRC, "options", "hertz.opts")
-S1_OPTS = os.path.join(SRC, "options", "seed_patch.opts")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests"))
+import m2d                                               # noqa: E402
+
+SRC = m2d.SRC
+HERTZ_OPTS = m2d.opts("hertz")
+S1_OPTS = m2d.opts("seed_patch")
 S1_P, S1_WIDTH = 1.0e6, 0.5
-MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", "2"]
 QUIET = ["-output_vtu", "0", "-output_hdf5", "0", "-contact_monitor", "0"]
 GNU_TIME = "/usr/bin/time"
 TIME_FMT = "%M %e %U %S"
@@ -101,9 +103,6 @@ CONFIGS = [
     ("tied-ref-2r", "mortar", "tied", 2, True),
 ]
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
-
 MEM_MODE = None       # "gnu-time" or "wait4"
 EXE = None
 
@@ -119,17 +118,14 @@ def check_memory_tool(tmp):
     global MEM_MODE
     f = os.path.join(tmp, "time_check")
     try:
-        r = subprocess.run([GNU_TIME, "-f", TIME_FMT, "-o", f, "true"], capture_output=True)
-        if r.returncode == 0 and len(open(f).read().split()) == 4:
+        r = m2d.launch([GNU_TIME, "-f", TIME_FMT, "-o", f, "true"], timeout=60)
+        if r.rc == 0 and len(open(f).read().split()) == 4:
             MEM_MODE = "gnu-time"
             return
     except OSError:
         pass
     try:
-        p = subprocess.Popen(["true"])
-        _, _, ru = os.wait4(p.pid, 0)
-        p.returncode = 0
-        if ru.ru_maxrss > 0:
+        if m2d.launch(["true"], timeout=60).maxrss_mb > 0:
             MEM_MODE = "wait4"
             sys.stderr.write("benchmark: %s (GNU time) missing or broken (apt-get install time); "
                              "peak memory from os.wait4 ru_maxrss instead (2 ranks: max over "
@@ -142,18 +138,16 @@ def check_memory_tool(tmp):
 
 
 def hertz_mesh(level):
-    r = subprocess.run(["bash", os.path.join(SRC, "tools", "hertz_mesh.sh"), str(level)],
-                       cwd=SRC, stdout=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        die("tools/hertz_mesh.sh %d failed (exit %d)" % (level, r.returncode))
-    return r.stdout.strip().splitlines()[-1]
+    try:
+        return m2d.hertz_mesh(level)
+    except RuntimeError as e:
+        die(str(e))
 
 
 def s1_mesh(level):
-    name = "seed_patch.msh" if level == 1 else "seed_patch_%d.msh" % level
-    p = os.path.join(SRC, "build", "meshes", name)
+    p = m2d.mesh("seed_patch" if level == 1 else "seed_patch_%d" % level)
     if not os.path.exists(p):
-        die("missing %s (cmake --build build makes it)" % p)
+        die("missing %s (the build makes it)" % p)
     return p
 
 
@@ -184,46 +178,26 @@ def run_program(d, args, ranks, timeout, log_view=True):
     full = list(args) + ["-summary", summary, "-output_dir", os.path.join(d, "output")]
     if log_view:
         full += ["-log_view", ":" + logv]
+    wrapper = ()
     if MEM_MODE == "gnu-time":
         if ranks == 1:
-            cmd = [GNU_TIME, "-f", TIME_FMT, "-o", mem + ".0", EXE] + full
+            wrapper = (GNU_TIME, "-f", TIME_FMT, "-o", mem + ".0")
         else:
-            cmd = MPIEXEC + ["/bin/sh", "-c",
-                             'exec %s -f "%s" -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' % (GNU_TIME, TIME_FMT),
-                             mem, EXE] + full
-    else:
-        cmd = ([EXE] if ranks == 1 else MPIEXEC + [EXE]) + full
+            wrapper = ("/bin/sh", "-c", 'exec %s -f "%s" -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' % (GNU_TIME, TIME_FMT), mem)
+    cmd = m2d.command(full, ranks, exe=EXE, wrapper=wrapper)
     with open(os.path.join(d, "cmd.txt"), "w") as f:
         f.write(" ".join(cmd) + "\n")
-    out = open(os.path.join(d, "stdout.txt"), "w")
     load = os.getloadavg()[0]
-    t0 = time.time()
-    p = subprocess.Popen(cmd, cwd=SRC, stdout=out, stderr=subprocess.STDOUT, env=ENV,
-                         start_new_session=True)
-    timed_out = []
-
-    def kill():
-        timed_out.append(1)
-        try:
-            os.killpg(p.pid, signal.SIGKILL)      # our own process group only
-        except ProcessLookupError:
-            pass
-    timer = threading.Timer(timeout, kill)
-    timer.start()
-    _, status, ru = os.wait4(p.pid, 0)
-    wall = time.time() - t0
-    timer.cancel()
-    p.returncode = os.waitstatus_to_exitcode(status)
-    out.close()
-    res = {"rc": p.returncode, "wall": wall, "timed_out": bool(timed_out), "dir": d,
+    r = m2d.launch(cmd, timeout=timeout, stdout=os.path.join(d, "stdout.txt"), merge=True)
+    res = {"rc": -9 if r.timed_out else r.rc, "wall": r.wall, "timed_out": r.timed_out, "dir": d,
            "summary": summary, "log_view": logv, "stdout": os.path.join(d, "stdout.txt"),
-           "maxrss_wait4_mb": ru.ru_maxrss / 1024.0, "load1": load}
+           "maxrss_wait4_mb": r.maxrss_mb, "load1": load}
     if MEM_MODE == "gnu-time":
         mems, cpu = [], []
-        for r in range(ranks):
+        for k in range(ranks):
             try:
                 # GNU time writes "Command exited with non-zero status" first on failure
-                v = open("%s.%d" % (mem, r)).read().split()[-4:]
+                v = open("%s.%d" % (mem, k)).read().split()[-4:]
                 mems.append(float(v[0]) / 1024.0)
                 cpu.append(float(v[2]) + float(v[3]))
             except (OSError, ValueError, IndexError):
@@ -234,7 +208,7 @@ def run_program(d, args, ranks, timeout, log_view=True):
     else:
         res["peak_mb"] = res["maxrss_wait4_mb"]
         res["peak_mb_sum"] = float("nan")
-        res["cpu_s"] = ru.ru_utime + ru.ru_stime
+        res["cpu_s"] = r.cpu_s
     return res
 
 
@@ -620,9 +594,8 @@ def plot(rows, png):
 
 # ---------------------------------------------------------------- orderings, partitioners
 def has_kkt_ordering():
-    r = subprocess.run([EXE, "-help", "-options_file", HERTZ_OPTS], cwd=SRC, capture_output=True,
-                       text=True, env=ENV)
-    return "kkt_ordering" in (r.stdout + r.stderr)
+    rc, out, err = m2d.run(["-help", "-options_file", HERTZ_OPTS], exe=EXE, check=False)
+    return "kkt_ordering" in (out + err)
 
 
 def orderings(out, level, timeout):
@@ -738,7 +711,7 @@ def main():
     ap.add_argument("--quick", action="store_true", help="Hertz levels 0..2, S1 1x, 2x, 4x")
     ap.add_argument("--s1-levels", default="1,2,4,8", help="S1 refinements (1 = seed_patch.msh)")
     ap.add_argument("--out", default=os.path.join(SRC, "build", "benchmark"))
-    ap.add_argument("--exe", default=os.path.join(SRC, "build", "mortar2d"))
+    ap.add_argument("--exe", default=m2d.EXE)
     ap.add_argument("--png", default=os.path.join(SRC, "docs", "speed_vs_error.png"))
     ap.add_argument("--orderings", action="store_true", help="also the ordering/partitioner comparison")
     ap.add_argument("--only-orderings", action="store_true", help="only the ordering/partitioner comparison")

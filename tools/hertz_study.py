@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """S3 Hertz refinement study: mortar and node-to-segment (NTS) on levels 0..4.
 
-Runs ./build/mortar2d -options_file options/hertz.opts on the graded meshes
-build/meshes/hertz_N.msh (made by tools/hertz_mesh.sh when missing, e.g. level
-5) for each method, and prints, per method and level:
+Runs mortar2d (--exe, default M2D_EXE or build/mortar2d) -options_file
+options/hertz.opts on the graded meshes hertz_N.msh in M2D_MESHES (default
+build/meshes; made by tools/hertz_mesh.sh when missing, e.g. level 5) for each
+method, through tests/m2d.py, and prints, per method and level:
 
   dofs     degrees of freedom
   steps    active-set steps (summary "iterations")
@@ -55,24 +56,24 @@ import json
 import math
 import os
 import shlex
-import subprocess
 import sys
-import time
 
 import numpy as np
 
-SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OPTS = os.path.join(SRC, "options", "hertz.opts")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests"))
+import m2d                                               # noqa: E402
+
+SRC = m2d.SRC
+OPTS = m2d.opts("hertz")
 NGRID = 6000
 
 
 def mesh_path(level):
     """Path of level N's mesh, made by tools/hertz_mesh.sh if missing or stale."""
-    r = subprocess.run(["bash", os.path.join(SRC, "tools", "hertz_mesh.sh"), str(level)],
-                       cwd=SRC, stdout=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        sys.exit("hertz_study: tools/hertz_mesh.sh %d failed (exit %d)" % (level, r.returncode))
-    return r.stdout.strip().splitlines()[-1]
+    try:
+        return m2d.hertz_mesh(level)
+    except RuntimeError as e:
+        sys.exit("hertz_study: %s" % e)
 
 
 def run_case(args, level, method):
@@ -83,32 +84,25 @@ def run_case(args, level, method):
     log = os.path.join(d, "log.txt")
     files = [summary, os.path.join(d, "h.h5"), os.path.join(d, "h_contact.csv")]
     if args.reuse and all(os.path.exists(f) for f in files):
-        with open(summary) as f:
-            s = json.load(f)
+        s = m2d.read_json(summary)
         wall = s.get("wall", float("nan"))
     else:
         for f in files:
             if os.path.exists(f):
                 os.remove(f)
-        cmd = [args.exe, "-options_file", OPTS, "-mesh", mesh_path(level),
-               "-output_dir", d, "-output_name", "h", "-summary", summary,
-               "-contact_method", method] + shlex.split(args.extra)
-        if args.ranks > 1:
-            cmd = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", str(args.ranks)] + cmd
-        print("  running %s level %d: %s" % (method, level, " ".join(shlex.quote(c) for c in cmd)),
-              flush=True)
-        t0 = time.time()
-        with open(log, "w") as f:
-            r = subprocess.run(cmd, cwd=SRC, stdout=f, stderr=subprocess.STDOUT)
-        wall = time.time() - t0
-        if r.returncode != 0 or not all(os.path.exists(f) for f in files):
+        cmd = m2d.command(["-options_file", OPTS, "-mesh", mesh_path(level),
+                           "-output_dir", d, "-output_name", "h", "-summary", summary,
+                           "-contact_method", method] + shlex.split(args.extra), args.ranks, exe=args.exe)
+        print("  running %s level %d: %s" % (method, level, shlex.join(cmd)), flush=True)
+        r = m2d.launch(cmd, timeout=None, stdout=log, merge=True)
+        wall = r.wall
+        if r.rc != 0 or not all(os.path.exists(f) for f in files):
             with open(log) as f:
                 tail = f.readlines()[-25:]
             sys.stderr.write("".join(tail))
             sys.exit("hertz_study: %s level %d failed (exit %d); log: %s"
-                     % (method, level, r.returncode, log))
-        with open(summary) as f:
-            s = json.load(f)
+                     % (method, level, r.rc, log))
+        s = m2d.read_json(summary)
         s["wall"] = wall
         with open(summary, "w") as f:      # keep the wall time for --reuse
             json.dump(s, f, indent=1)
@@ -117,21 +111,16 @@ def run_case(args, level, method):
 
 def read_pressure(path):
     """Nodal (|x|, pressure) of a contact CSV, sorted by x."""
-    a = np.genfromtxt(path, delimiter=",", names=True)
-    x = np.abs(np.atleast_1d(a["x"]))
-    p = np.atleast_1d(a["pressure"])
+    a = m2d.csv_columns(path)
+    x = np.abs(a["x"])
     o = np.argsort(x, kind="stable")
-    return x[o], p[o]
+    return x[o], a["pressure"][o]
 
 
 def read_h5(path):
-    import h5py
-    with h5py.File(path, "r") as f:
-        X = f["geometry/vertices"][:, :2]
-        C = f["topology/cells"][:].astype(np.int64)
-        U = f["vertex_fields/displacement"][:, :2]
-        B = np.rint(f["cell_fields/body"][:]).astype(int)
-    return X, C, U, B
+    """(vertices xy, cells, displacement xy, body of each cell) of an HDF5 output."""
+    xy, cells, vf, cf = m2d.read_h5(path)
+    return xy[:, :2], cells.astype(np.int64), vf["displacement"][:, :2], np.rint(cf["body"]).astype(int).ravel()
 
 
 class BodyField:
@@ -250,7 +239,7 @@ def main():
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--out", default=os.path.join(SRC, "build", "hertz_study"))
     ap.add_argument("--extra", default="", help="more mortar2d options, one string")
-    ap.add_argument("--exe", default=os.path.join(SRC, "build", "mortar2d"))
+    ap.add_argument("--exe", default=m2d.EXE)
     ap.add_argument("--reuse", action="store_true",
                     help="re-use results already in --out instead of running again")
     args = ap.parse_args()

@@ -36,7 +36,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt                          # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hertz_study import SRC, run_case, read_pressure    # noqa: E402
+from hertz_study import SRC, m2d, run_case, read_pressure  # noqa: E402
 
 LABEL = {"mortar": "mortar (dual multipliers)", "nts": "node-to-segment (NTS)"}
 METHODS = ("mortar", "nts")
@@ -46,8 +46,7 @@ def get_case(runs, level, method):
     d = os.path.join(runs, "%s_%d" % (method, level))
     csvp, js = os.path.join(d, "h_contact.csv"), os.path.join(d, "s.json")
     if not (os.path.exists(csvp) and os.path.exists(js)):
-        args = argparse.Namespace(out=runs, reuse=True, extra="", ranks=1,
-                                  exe=os.path.join(SRC, "build", "mortar2d"))
+        args = argparse.Namespace(out=runs, reuse=True, extra="", ranks=1, exe=m2d.EXE)
         run_case(args, level, method)
     with open(js) as f:
         s = json.load(f)

@@ -31,19 +31,14 @@ import matplotlib.pyplot as plt                          # noqa: E402
 from matplotlib.collections import PolyCollection        # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from s1_refinement import SRC, P, run_case, read_pressure  # noqa: E402
+from s1_refinement import SRC, P, m2d, run_case, read_pressure  # noqa: E402
 
 LABEL = {"mortar": "mortar", "nts": "NTS (node-to-segment)"}
 
 
 def read_h5(path):
-    import h5py
-    with h5py.File(path, "r") as f:
-        xy = np.array(f["geometry/vertices"])
-        cells = np.array(f["topology/cells"])
-        u = np.array(f["vertex_fields/displacement"])[:, :2]
-        cf = {k: np.array(v) for k, v in f["cell_fields"].items()}
-    return xy, cells, u, cf
+    xy, cells, vf, cf = m2d.read_h5(path)
+    return xy, cells, vf["displacement"][:, :2], cf
 
 
 def get_run(args, level, method):
@@ -136,7 +131,7 @@ def main():
     ap.add_argument("--runs", default=os.path.join(SRC, "build", "s1_plots"))
     ap.add_argument("--reuse", action="store_true", help="use result files already in --runs")
     ap.add_argument("--docs", default=os.path.join(SRC, "docs"))
-    ap.add_argument("--exe", default=os.path.join(SRC, "build", "mortar2d"))
+    ap.add_argument("--exe", default=m2d.EXE)
     ap.add_argument("--mortar-h5", help="existing 1x mortar output for the stress figure")
     ap.add_argument("--nts-h5", help="existing 1x NTS output for the stress figure")
     ap.add_argument("--scale", type=float, default=0.0, help="displacement magnification (0: undeformed)")

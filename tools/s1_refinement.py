@@ -26,20 +26,23 @@ the (up to four) reference cells touching the point is used.
 
 All errors are relative to the load p = 1 MPa (SCENES.md: relative errors
 divide by p). CSV: <out>/s1_refinement.csv. Exit status 1 if a run fails.
+The program (--exe, default M2D_EXE or build/mortar2d) and the meshes
+(M2D_MESHES, default build/meshes) are found and run through tests/m2d.py.
 
   /usr/bin/python3 tools/s1_refinement.py [--out DIR] [--quick] [--exe PATH]
 """
 import argparse
 import csv
-import json
 import os
-import subprocess
 import sys
 import time
 
 import numpy as np
 
-SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests"))
+import m2d                                               # noqa: E402
+
+SRC = m2d.SRC
 P = 1.0e6                  # load on the upper top edge (options/seed_patch.opts)
 WIDTH = 0.5                # upper body width: contact force should be P * WIDTH
 X0, X1 = 0.25, 0.75        # upper body / contact zone
@@ -50,8 +53,7 @@ NGRID = 4001
 
 
 def mesh_path(level):
-    name = "seed_patch.msh" if level == 1 else "seed_patch_%d.msh" % level
-    return os.path.join(SRC, "build", "meshes", name)
+    return m2d.mesh("seed_patch" if level == 1 else "seed_patch_%d" % level)
 
 
 def run_case(exe, out, level, method):
@@ -62,44 +64,36 @@ def run_case(exe, out, level, method):
         p = os.path.join(out, name + ext)
         if os.path.exists(p):
             os.remove(p)
-    cmd = [exe, "-options_file", os.path.join(SRC, "options", "seed_patch.opts"),
-           "-mesh", mesh_path(level), "-contact_method", method,
-           "-output_dir", out, "-output_name", name, "-summary", summary]
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    t = time.time()
+    cmd = m2d.command([
+        "-options_file", m2d.opts("seed_patch"), "-mesh", mesh_path(level), "-contact_method", method,
+        "-output_dir", out, "-output_name", name, "-summary", summary], exe=exe)
     try:
-        p = subprocess.run(cmd, cwd=SRC, capture_output=True, text=True, timeout=600, env=env)
-        rc, so, se = p.returncode, p.stdout, p.stderr
-    except (OSError, subprocess.TimeoutExpired) as e:
-        rc, so, se = -1, "", str(e)
-    wall = time.time() - t
+        r = m2d.launch(cmd, timeout=600)
+        rc, so, se, wall = (-1 if r.timed_out else r.rc), r.stdout, r.stderr, r.wall
+    except OSError as e:
+        rc, so, se, wall = -1, "", str(e), 0.0
     files = [summary, os.path.join(out, name + ".h5"), os.path.join(out, name + "_contact.csv")]
     missing = [f for f in files if not os.path.exists(f)]
     if rc != 0 or missing:
         sys.stderr.write("run failed (rc %d%s): %s\n%s\n%s\n" % (
             rc, ", missing " + " ".join(missing) if missing else "", " ".join(cmd), so, se))
         sys.exit(1)
-    with open(summary) as f:
-        s = json.load(f)
+    s = m2d.read_json(summary)
     return {"level": level, "method": method, "summary": s, "wall": wall,
             "h5": files[1], "csv": files[2], "name": name}
 
 
 def read_pressure(csv_path):
     """Interface nodes sorted by x: (x, pressure)."""
-    d = np.genfromtxt(csv_path, delimiter=",", names=True)
-    d = np.atleast_1d(d)
+    d = m2d.csv_columns(csv_path)
     o = np.argsort(d["x"])
     return d["x"][o], d["pressure"][o]
 
 
 def read_lower_sigma_y(h5_path):
     """Lower-body cells: (centroids (n x 2), areas, sigma_y)."""
-    import h5py
-    with h5py.File(h5_path, "r") as f:
-        xy = np.array(f["geometry/vertices"])
-        cells = np.array(f["topology/cells"])
-        sy = np.array(f["cell_fields/sigma_y"])
+    xy, cells, _, cf = m2d.read_h5(h5_path)
+    sy = cf["sigma_y"]
     c = xy[cells]                                     # (n, 4, 2)
     cen = c.mean(axis=1)
     x, y = c[:, :, 0], c[:, :, 1]                     # shoelace area of the quad
@@ -190,7 +184,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=os.path.join(SRC, "build", "s1_refinement"))
     ap.add_argument("--quick", action="store_true", help="1x, 2x against a 4x reference")
-    ap.add_argument("--exe", default=os.path.join(SRC, "build", "mortar2d"))
+    ap.add_argument("--exe", default=m2d.EXE)
     a = ap.parse_args()
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
