@@ -207,21 +207,22 @@ def known_values(name, sc):
         "-traction": string_values([("%s:0:0" % pg, A)], odd=["%s:1:0" % pg, "%s:0:1e308" % pg],
                                    invalid=["nosuch:0:0", "%s:0" % pg, "%s:0:nan" % pg, "%s:0:inf" % pg]),
         "-exact": choice_values([("none", A), ("uniform", A)], odd=["mms"], odd_keeps=None),
-        "-exact_p": real_values([("0", A), ("-1", A)] + ([("1e6", A)] if s2 else [("1", L)]), odd_keeps=L),
-        "-mms_amplitude": real_values([("0.001", A), ("1", A)], odd_keeps=A),
+        # README: "auto" or > 0; -mms_amplitude non-zero
+        "-exact_p": real_values([("auto", A)] + ([("1e6", A)] if s2 else [("1", L)]), invalid=["0", "-1"], odd_keeps=L),
+        "-mms_amplitude": real_values([("0.001", A), ("1", A)], invalid=["0"], odd_keeps=A),
         "-contact_nonmortar": string_values([(nm, A)], odd=[mo, b0], invalid=["nosuch"]),
         "-contact_mortar": string_values([(mo, A)], odd=[nm, b0], invalid=["nosuch"]),
         "-contact_method": choice_values([("mortar", A), ("nts", A)]),
         # tied contact (false) closes every candidate: S2's answer, Hertz's load
         "-contact_unilateral": bool_values(A if s2 else L),
-        "-contact_c": real_values([("0", A), ("-1", A)], boundary=["%g" % (c * 1e-3), "%g" % c, "%g" % (c * 1e3), "1e-300", "1e300"], odd_keeps=L),
+        "-contact_c": real_values([("auto", A)], invalid=["0", "-1"], boundary=["%g" % (c * 1e-3), "%g" % c, "%g" % (c * 1e3), "1e-300", "1e300"], odd_keeps=L),
         "-contact_initial": choice_values([("gap", A), ("closest", A), ("all", A)]),
         "-contact_monitor": bool_values(),
         "-hertz": bool_values(),
         "-hertz_radius": real_values([("1", A), ("2", A)], odd_keeps=A),
-        "-hertz_load": real_values([("-1", A), ("0.86", A)], odd_keeps=A),
+        "-hertz_load": real_values([("auto", A), ("0.86", A)], invalid=["0", "-1"], odd_keeps=A),
         "-mortar_basis": choice_values([("standard", A), ("dual", A)]),
-        "-contact_reach": real_values([("0", A), ("-1", A), ("0.5", A), ("10", A)], boundary=["1e-3", "1e-12", "1e300"], odd_keeps=L),
+        "-contact_reach": real_values([("auto", A), ("0.5", A), ("10", A)], invalid=["0", "-1"], boundary=["1e-3", "1e-12", "1e300"], odd_keeps=L),
         "-kkt_mat": choice_values([("aij", A)], odd=["nest"], odd_keeps=A),
         "-kkt_path": choice_values([("full", A)], odd=["condensed"], odd_keeps=A),
         "-kkt_ordering": choice_values([("metis", A), ("mumps", A)]),
@@ -314,7 +315,8 @@ def draw(i, rng, own, body, petsc, known):
         r = rng.random()
         if r < 0.1:
             name = misspell(rng.choice(names), rng, known)
-            vals = [v(x, VALID, ANSWER) for x in ("1", "0", "garbage", "", NOVALUE)]
+            # README (issue 13 item 4): an unknown option is an error naming it
+            vals = [v(x, INVALID) for x in ("1", "0", "garbage", "", NOVALUE)]
         elif r < 0.2:
             name = rng.choice(sorted(petsc) + SOLVER_EXTRA)
             vals = generic_values(list(petsc.get(name, [])) + (["1e-2", "0.5", "1", "2"] if name in SOLVER_EXTRA else []))
@@ -386,6 +388,17 @@ def judge(spec, r, d):
     problems, notes = [], []
     eff = effective(spec)
     invalid = [(n, val) for n, (val, k, _) in eff.items() if k == INVALID]
+    # README: vinewtonrsls does not combine with -kkt_augment (refused with one line)
+    snes = eff.get("-snes_type", (None,))[0] or ("vinewtonrsls" if "vinewtonrsls" in spec["variant"] else None)
+    aug = eff.get("-kkt_augment", (None,))[0]
+    if aug is None and any("kkt_fieldsplit" in str(x) for x in spec["variant"]):
+        aug = "1"  # the fieldsplit options file sets -kkt_augment 1
+    if snes == "vinewtonrsls" and aug not in (None, "0", "0.0"):
+        try:
+            if float(aug) > 0:
+                invalid.append(("-kkt_augment", aug))
+        except ValueError:
+            pass
     all_valid = all(k == VALID for _, k, _ in eff.values())
     keeps = None if invalid else keeps_of(spec, eff)
     lines = [l for l in r.stderr.splitlines() if l.strip()]
