@@ -216,6 +216,36 @@ static void CheckPatch(const MshMesh *m, const MshMesh *ref, const M2dRemeshStat
   CHECK(!nbad && lines_ok && BodiesSeparate(m), "field, quads %d: nodes inside their body, contact lines on y = 0.5, no node shared by the bodies", quads);
 }
 
+/* the patch with sizes per cell, 0.1 in the lower body and 0.025 in the upper:
+ * on y = 0.5, which both bodies' cells touch, each contact surface takes its own
+ * body's size */
+static void TestPatchPerBody(const char *geo)
+{
+  double         *h, low[2] = {1e300, 0}, up[2] = {1e300, 0};
+  M2dRemeshInput in = {0};
+  MshMesh        prev, m;
+  char           err[1024];
+  int            lower;
+  in.geo = geo;
+  if (Remesh(&in, &prev, err)) return;
+  lower = PhysTag(&prev, 2, "lower");
+  h     = (double *)malloc((size_t)prev.nquad * sizeof(double));
+  for (long q = 0; q < prev.nquad; q++) h[q] = prev.quadphys[q] == lower ? 0.1 : 0.025;
+  in.prev = &prev, in.hcell = h;
+  if (!Remesh(&in, &m, err)) {
+    for (long l = 0; l < m.nline; l++) {
+      const double *a = &m.xy[2 * m.line[2 * l]], *b = &m.xy[2 * m.line[2 * l + 1]];
+      double        len = hypot(b[0] - a[0], b[1] - a[1]), *r = m.linephys[l] == PhysTag(&m, 1, "lower_top") ? low : m.linephys[l] == PhysTag(&m, 1, "upper_bottom") ? up : NULL;
+      if (r) r[0] = fmin(r[0], len), r[1] = fmax(r[1], len);
+    }
+    printf("     edges on y = 0.5: lower_top %.4f to %.4f, upper_bottom %.4f to %.4f\n", low[0], low[1], up[0], up[1]);
+    CHECK(low[0] > 0.7 * 0.1 && low[1] < 1.3 * 0.1 && up[0] > 0.7 * 0.025 && up[1] < 1.3 * 0.025, "sizes per cell and per body: each side of the shared line y = 0.5 its body's size");
+    MshFree(&m);
+  }
+  free(h);
+  MshFree(&prev);
+}
+
 /* the patch, sizes 0.01 at the corner (0,0) growing to 0.1 */
 static void TestPatchField(void)
 {
@@ -253,6 +283,7 @@ static void TestPatchField(void)
   }
   free(h);
   MshFree(&prev), MshFree(&ref);
+  TestPatchPerBody(geo);
   unlink(geo);
 }
 
@@ -286,6 +317,36 @@ static void TestHertzField(void)
   CHECK(MinJacobian(&m) > 0 && BodiesSeparate(&m) && PhysTag(&m, 2, "cylinder") > 0 && PhysTag(&m, 1, "block_bottom") > 0 && PhysTag(&m, 1, "cylinder_top") > 0, "convex counter-clockwise quads, the bodies separate, groups kept");
   MshFree(&m);
 done:
+  free(h);
+  MshFree(&prev);
+}
+
+/* Hertz with sizes per cell, 0.02 in the cylinder and 0.08 in the block: where
+ * the bodies touch each contact surface takes its own body's size */
+static void TestHertzPerBody(void)
+{
+  const char    *names[] = {"level"};
+  double         values[] = {-1}, *h, arc[2] = {1e300, 0}, top[2] = {1e300, 0};
+  M2dRemeshInput in = {0};
+  MshMesh        prev, m;
+  char           err[1024];
+  int            cyl;
+  in.geo = Path("meshes/hertz.geo"), in.nnumber = 1, in.names = names, in.values = values;
+  if (Remesh(&in, &prev, err)) return;
+  cyl = PhysTag(&prev, 2, "cylinder");
+  h   = (double *)malloc((size_t)prev.nquad * sizeof(double));
+  for (long q = 0; q < prev.nquad; q++) h[q] = prev.quadphys[q] == cyl ? 0.02 : 0.08;
+  in.prev = &prev, in.hcell = h;
+  if (!Remesh(&in, &m, err)) {
+    for (long l = 0; l < m.nline; l++) {
+      const double *a = &m.xy[2 * m.line[2 * l]], *b = &m.xy[2 * m.line[2 * l + 1]];
+      double        len = hypot(b[0] - a[0], b[1] - a[1]), *r = m.linephys[l] == PhysTag(&m, 1, "cylinder_arc") ? arc : m.linephys[l] == PhysTag(&m, 1, "block_top") ? top : NULL;
+      if (r && hypot(a[0], a[1]) < 0.3) r[0] = fmin(r[0], len), r[1] = fmax(r[1], len);
+    }
+    printf("     edges within 0.3 of the contact point: cylinder_arc %.4f to %.4f, block_top %.4f to %.4f\n", arc[0], arc[1], top[0], top[1]);
+    CHECK(arc[0] > 0.7 * 0.02 && arc[1] < 1.3 * 0.02 && top[0] > 0.7 * 0.08 && top[1] < 1.3 * 0.08, "sizes per cell and per body: each contact surface its body's size up to the contact point");
+    MshFree(&m);
+  }
   free(h);
   MshFree(&prev);
 }
@@ -338,6 +399,7 @@ int main(void)
   TestErrors();
   TestPatchField();
   TestHertzField();
+  TestHertzPerBody();
   printf("%s\n", failures ? "FAILED" : "all passed");
   return failures ? 1 : 0;
 }

@@ -3,7 +3,8 @@
  *   m2d_remesh GEO [-setnumber NAME VALUE]... [-o OUT.msh] [-quads subdivide|fullquad|blossom]
  *              [-from PREV.msh -radial HFINE R0 RATIO [CX CY]] [-repeat N] [-v]
  * -radial gives the size at the nodes of PREV: HFINE within R0 of (CX, CY) (default
- * the origin), growing by RATIO per element beyond: h = HFINE + (RATIO - 1)(r - R0).
+ * the origin), growing by RATIO per element beyond: h = HFINE + (RATIO - 1)(r - R0);
+ * several -radial: the smallest of their sizes.
  * Prints one line: nodes, dofs (2 per node), quads, seconds, quad shapes. */
 #include "msh.h"
 #include "remesh.h"
@@ -13,6 +14,7 @@
 #include <string.h>
 
 #define MAXNUM 32
+#define MAXRAD 8
 
 static int Usage(void)
 {
@@ -26,8 +28,8 @@ int main(int argc, char **argv)
   M2dRemeshStats st;
   MshMesh        prev, out;
   const char    *names[MAXNUM], *from = NULL;
-  double         values[MAXNUM], radial[5] = {0, 0, 0, 0, 0}, *h = NULL;
-  int            nradial = 0, repeat = 1, rc = 0;
+  double         values[MAXNUM], radial[MAXRAD][5], *h = NULL;
+  int            nrad = 0, repeat = 1, rc = 0;
   char           err[2048];
 
   if (argc < 2) return Usage();
@@ -46,13 +48,17 @@ int main(int argc, char **argv)
       i++;
       in.quads = !strcmp(argv[i], "fullquad") ? M2D_QUADS_FULLQUAD : !strcmp(argv[i], "blossom") ? M2D_QUADS_BLOSSOM : M2D_QUADS_SUBDIVIDE;
     } else if (!strcmp(argv[i], "-from") && i + 1 < argc) from = argv[++i];
-    else if (!strcmp(argv[i], "-radial") && i + 3 < argc) {
-      for (nradial = 0; nradial < 5 && i + 1 < argc && (argv[i + 1][0] != '-' || (argv[i + 1][1] >= '0' && argv[i + 1][1] <= '9')); nradial++) radial[nradial] = atof(argv[++i]);
+    else if (!strcmp(argv[i], "-radial") && i + 3 < argc && nrad < MAXRAD) {
+      int k;
+      memset(radial[nrad], 0, sizeof(radial[nrad]));
+      for (k = 0; k < 5 && i + 1 < argc && (argv[i + 1][0] != '-' || (argv[i + 1][1] >= '0' && argv[i + 1][1] <= '9')); k++) radial[nrad][k] = atof(argv[++i]);
+      if (k < 3) return Usage();
+      nrad++;
     } else if (!strcmp(argv[i], "-repeat") && i + 1 < argc) repeat = atoi(argv[++i]);
     else if (!strcmp(argv[i], "-v")) in.verbose = 1;
     else return Usage();
   }
-  if (!!from != (nradial >= 3)) return Usage();
+  if (!!from != (nrad > 0)) return Usage();
   if (from) {
     if (MshRead(from, &prev, err, sizeof(err))) {
       fprintf(stderr, "m2d_remesh: error: %s\n", err);
@@ -60,8 +66,11 @@ int main(int argc, char **argv)
     }
     h = (double *)malloc((size_t)prev.nnode * sizeof(double));
     for (long n = 0; n < prev.nnode; n++) {
-      double r = hypot(prev.xy[2 * n] - radial[3], prev.xy[2 * n + 1] - radial[4]);
-      h[n]     = radial[0] + (radial[2] - 1) * (r > radial[1] ? r - radial[1] : 0);
+      h[n] = 1e300;
+      for (int k = 0; k < nrad; k++) {
+        double r = hypot(prev.xy[2 * n] - radial[k][3], prev.xy[2 * n + 1] - radial[k][4]);
+        h[n]     = fmin(h[n], radial[k][0] + (radial[k][2] - 1) * (r > radial[k][1] ? r - radial[k][1] : 0));
+      }
     }
     in.prev  = &prev;
     in.hnode = h;
