@@ -37,9 +37,10 @@ typedef struct {
   int            nnumber; /* parameters defined before the .geo is parsed, as gmsh's */
   const char   **names;   /* -setnumber does: DefineConstant keeps them, Exists() sees */
   const double  *values;  /* them. Names are identifiers ([A-Za-z_][A-Za-z0-9_]*). */
-  /* Size field (all NULL: the .geo's own sizes): target element size (edge length,
-   * in the mesh's units) on a previous mesh of the same geometry, either per node
-   * (interpolated bilinearly in each quad) or per quad (constant in the quad). */
+  /* Size field (all NULL: the .geo's own sizes): target quad edge length, in the
+   * mesh's units, on a previous mesh of the same .geo (its quadphys tags tell the
+   * bodies apart), either per node (linear on the two triangles of each quad) or
+   * per quad (constant in it). The field can be no sharper than prev's cells. */
   const MshMesh *prev;
   const double  *hnode;   /* prev->nnode sizes, or NULL */
   const double  *hcell;   /* prev->nquad sizes, or NULL (exactly one of the two) */
@@ -59,7 +60,7 @@ typedef struct {
 } M2dQuadQuality;
 
 typedef struct {
-  double         seconds_open;     /* parse the .geo (and set up the field) */
+  double         seconds_open;     /* load gmsh (first call), parse the .geo, set up the field */
   double         seconds_generate; /* gmsh's 2D meshing */
   double         seconds_total;    /* the whole call */
   M2dQuadQuality quality;
@@ -84,7 +85,8 @@ typedef struct M2dSizeField M2dSizeField;
 int  M2dSizeFieldCreate(const MshMesh *prev, const double *hnode, const double *hcell, double hmin, double hmax, M2dSizeField **f);
 void M2dSizeFieldDestroy(M2dSizeField **f);
 /* Size at (x, y) from the quads of physical surface phys (-1: any quad); a point
- * outside them takes the value at the closest point of the closest such quad.
- * Returns -1 if no quad has that physical tag. */
+ * outside them takes the value at the closest point of a nearby such quad (the
+ * closest one when that is within its own size of the point). Returns -1 if no
+ * quad has that physical tag. */
 double M2dSizeFieldEval(const M2dSizeField *f, int phys, double x, double y);
 #endif

@@ -213,7 +213,7 @@ static int Scan(const M2dSizeField *f, int phys, int level, long i, long j, doub
   double d, v, bd;
   for (long c = k < 0 ? 0 : f->start[k]; k >= 0 && c < f->start[k + 1]; c++) {
     long q = f->cell[c];
-    if (phys >= 0 && f->m->quadphys[q] != phys) continue;
+    if (phys >= 0 && f->m->quadphys && f->m->quadphys[q] != phys) continue;
     bd = BoxDist(&f->box[4 * q], x, y);
     if (nearest ? bd >= *best : bd > 0) continue;
     v = CellEval(f, q, x, y, &d);
@@ -248,7 +248,7 @@ double M2dSizeFieldEval(const M2dSizeField *f, int phys, double x, double y)
   }
   if (val >= 0) return val;
   for (long q = 0; q < f->m->nquad; q++) {
-    if (phys >= 0 && f->m->quadphys[q] != phys) continue;
+    if (phys >= 0 && f->m->quadphys && f->m->quadphys[q] != phys) continue;
     v = CellEval(f, q, x, y, &d);
     if (d < best) best = d, val = v;
   }
