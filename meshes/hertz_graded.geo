@@ -6,8 +6,8 @@
 //             touches the block at the origin.
 //   block:    [0,4]x[-4,0].
 // The element size grows geometrically, by `grading` from one element to the
-// next, with the distance d from the contact zone (the segment x in [0, zone]
-// of the contact surfaces, y = 0):
+// next, with the distance d from the contact zone (the part x in [0, zone] of
+// each contact surface; in the cylinder, d is measured to its arc):
 //   h_block(d)    = min(hmax, hc + (grading - 1) d),  hc = h0 / 2^level
 //   h_cylinder(d) = ratio * h_block(d)        (non-matching contact meshes)
 // hc is the quad size at the contact zone. The Hertz half-width is a ~ 0.1 at
@@ -19,7 +19,7 @@
 DefineConstant[
   level   = {0,     Name "Parameters/level"},    // halves hc per level
   h0      = {0.004, Name "Parameters/h0"},       // block quad size at the contact zone, level 0
-  grading = {1.25,  Name "Parameters/grading"},  // size ratio of neighbouring elements
+  grading = {1.07,  Name "Parameters/grading"},  // size ratio of neighbouring elements
   zone    = {0.15,  Name "Parameters/zone"},     // half-width of the fine zone
   ratio   = {0.7,   Name "Parameters/ratio"},    // cylinder size / block size
   hmax    = {0.5,   Name "Parameters/hmax"}      // block size cap
@@ -65,8 +65,8 @@ Plane Surface(2) = {2};
 // (Two separate formulas: a MathEval field that reads another one, F1, hangs gmsh 4.8.4.)
 Field[1] = MathEval;            // block size
 Field[1].F = Sprintf("2 * Min(%.17g, %.17g + %.17g * Sqrt(Max(x - %.17g, 0)^2 + y^2))", hmax, hc, grading - 1, zone);
-Field[2] = MathEval;            // cylinder size
-Field[2].F = Sprintf("%.17g * Min(%.17g, %.17g + %.17g * Sqrt(Max(x - %.17g, 0)^2 + y^2))", 2 * ratio, hmax, hc, grading - 1, zone);
+Field[2] = MathEval;            // cylinder size; depth below the arc: 1 - |(x, y) - (0, 1)|
+Field[2].F = Sprintf("%.17g * Min(%.17g, %.17g + %.17g * Sqrt(Max(x - %.17g, 0)^2 + (1 - Sqrt(x^2 + (y - 1)^2))^2))", 2 * ratio, hmax, hc, grading - 1, zone);
 Field[3] = Restrict;
 Field[3].InField = 2;
 Field[3].SurfacesList = {1};

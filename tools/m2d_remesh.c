@@ -46,7 +46,10 @@ int main(int argc, char **argv)
     } else if (!strcmp(argv[i], "-o") && i + 1 < argc) in.write_msh = argv[++i];
     else if (!strcmp(argv[i], "-quads") && i + 1 < argc) {
       i++;
-      in.quads = !strcmp(argv[i], "fullquad") ? M2D_QUADS_FULLQUAD : !strcmp(argv[i], "blossom") ? M2D_QUADS_BLOSSOM : M2D_QUADS_SUBDIVIDE;
+      if (!strcmp(argv[i], "subdivide")) in.quads = M2D_QUADS_SUBDIVIDE;
+      else if (!strcmp(argv[i], "fullquad")) in.quads = M2D_QUADS_FULLQUAD;
+      else if (!strcmp(argv[i], "blossom")) in.quads = M2D_QUADS_BLOSSOM;
+      else return Usage();
     } else if (!strcmp(argv[i], "-from") && i + 1 < argc) from = argv[++i];
     else if (!strcmp(argv[i], "-radial") && i + 3 < argc && nrad < MAXRAD) {
       int k;
