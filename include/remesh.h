@@ -10,7 +10,8 @@
  * With a size field, the .geo's own size sources are switched off, and the number
  * m2d_size_field = 1 is defined before it is parsed: gmsh 4.8 cannot undo a .geo's
  * Transfinite constraints (they would override the field), so a .geo meant to
- * be remeshed skips them then: If (!Exists(m2d_size_field)) Transfinite ... EndIf.
+ * be remeshed skips them then: If (!Exists(m2d_size_field)) Transfinite ... EndIf
+ * (M2dRemesh refuses a .geo that names Transfinite but not m2d_size_field).
  *
  * gmsh keeps global state (options, parser, models), so every call initialises
  * and finalises the library itself: calls are independent of each other and of

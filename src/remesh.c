@@ -111,6 +111,26 @@ static int ValidName(const char *s)
   return 1;
 }
 
+/* gmsh 4.8 cannot undo a .geo's Transfinite constraints, which would silently
+ * override the field: a .geo that has some must skip them under m2d_size_field. */
+static int CheckTransfinite(Ctx *c, const char *geo)
+{
+  FILE  *fp = fopen(geo, "rb");
+  char  *text;
+  long   n;
+  int    bad = 0;
+  if (!fp) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
+  if (fseek(fp, 0, SEEK_END) || (n = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET) || !(text = (char *)malloc((size_t)n + 1))) {
+    fclose(fp);
+    return Fail(c, "cannot read the .geo file");
+  }
+  text[fread(text, 1, (size_t)n, fp)] = 0;
+  fclose(fp);
+  bad = strstr(text, "Transfinite") && !strstr(text, "m2d_size_field");
+  free(text);
+  return bad ? Fail(c, "its Transfinite constraints would override the size field: put them in If (!Exists(m2d_size_field)) ... EndIf") : 0;
+}
+
 static int CheckInput(Ctx *c, const M2dRemeshInput *in)
 {
   FILE *fp;
@@ -133,7 +153,7 @@ static int CheckInput(Ctx *c, const M2dRemeshInput *in)
   }
   for (long q = 0; q < 4 * in->prev->nquad; q++)
     if (in->prev->quad[q] < 0 || in->prev->quad[q] >= in->prev->nnode) return Fail(c, "previous mesh: quad %ld has node %ld out of range", q / 4, in->prev->quad[q]);
-  return 0;
+  return CheckTransfinite(c, in->geo);
 }
 
 /* gmsh's -setnumber survives gmshFinalize (it would leak into later calls), and

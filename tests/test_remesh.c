@@ -281,6 +281,8 @@ static void TestPatchField(void)
     CheckPatch(&m, &ref, &st, quads, want);
     MshFree(&m);
   }
+  in.geo = Path("meshes/patch_uniform.geo"); /* Transfinite, not guarded */
+  CHECK(M2dRemesh(&in, &m, &st, err, sizeof(err)) && strstr(err, "patch_uniform.geo") && strstr(err, "m2d_size_field"), "a field on a .geo whose Transfinite is not guarded: '%s'", err);
   free(h);
   MshFree(&prev), MshFree(&ref);
   TestPatchPerBody(geo);
