@@ -8,11 +8,14 @@
 //   h_cylinder(r) = ratio * h_block(r)      (non-matching contact meshes)
 // with s = 2^-level, so every level halves the element size everywhere
 // (~4x more nodes per level).  rfine = 0.2 covers the contact zone (a ~ 0.1).
+// Negative levels make the coarse start of the adaptive loop (level -1: block
+// quads of 0.05 at the contact, a few hundred dofs); a size field then replaces
+// these sizes (remesh.h) and the geometry and physical names stay.
 // Quads: Frontal-Delaunay triangles at size 2h, Blossom recombination, then
 // one uniform quad subdivision (Mesh.SubdivisionAlgorithm = 1) -> all-quad.
 //   gmsh -2 -format msh41 -setnumber level 2 hertz.geo -o hertz_2.msh
 DefineConstant[
-  level   = {0,     Min 0, Max 6, Step 1, Name "Parameters/level"},
+  level   = {0,     Min -2, Max 6, Step 1, Name "Parameters/level"},
   h0      = {0.025, Name "Parameters/h0"},      // block size at the contact, level 0
   ratio   = {0.7,   Name "Parameters/ratio"},   // cylinder size / block size
   grading = {0.25,  Name "Parameters/grading"}, // dh/dr away from the contact zone

@@ -1,0 +1,600 @@
+/* remesh.c - a scene's .geo meshed by gmsh's C API into an all-quad MshMesh,
+ * optionally driven by a size field on a previous mesh (see remesh.h).
+ *
+ * The field goes to gmsh as its mesh-size callback (remesh_field.c evaluates
+ * it), with every other size source (points, curvature, boundary extension, the
+ * .geo's own fields) switched off: the field alone sets the size, on the curves
+ * (contact surfaces included) as inside. Why not a post-processing view used as
+ * background mesh: gmsh's search in the view misses points of a curved boundary
+ * that bulge out of the previous (polygonal) mesh and gives them the largest
+ * size; and a view cannot tell the two bodies apart where they touch. */
+#define _GNU_SOURCE /* mkstemps, realpath */
+#include "remesh.h"
+#include <gmshc.h>
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <locale.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct {
+  const char *geo;
+  char       *err;
+  size_t      errlen;
+  int         failed;
+  char        wrapper[PATH_MAX + 64]; /* temporary .geo that sets the numbers, or "" */
+} Ctx;
+
+static double Now(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int Fail(Ctx *c, const char *fmt, ...)
+{
+  char    what[1024];
+  va_list ap;
+  if (c->failed) return 1;
+  va_start(ap, fmt);
+  vsnprintf(what, sizeof(what), fmt, ap);
+  va_end(ap);
+  snprintf(c->err, c->errlen, "remeshing '%s': %s", c->geo ? c->geo : "(null)", what);
+  c->failed = 1;
+  return 1;
+}
+
+/* gmsh's library is loaded on the first call (dlopen), not linked: it pulls in
+ * some 80 libraries (OpenCASCADE, FLTK, ...) whose start-up every run of the
+ * program would pay, remeshing or not. */
+#ifndef M2D_GMSH_LIBRARY
+#define M2D_GMSH_LIBRARY "libgmsh.so.4.8"
+#endif
+#define GMSH_FUNCTIONS(X) \
+  X(gmshFinalize) X(gmshFree) X(gmshInitialize) X(gmshLoggerGet) \
+  X(gmshLoggerStart) X(gmshLoggerStop) X(gmshModelGetAdjacencies) X(gmshModelGetEntities) \
+  X(gmshModelGetPhysicalGroups) X(gmshModelGetPhysicalGroupsForEntity) X(gmshModelGetPhysicalName) X(gmshModelMeshFieldAdd) \
+  X(gmshModelMeshFieldSetAsBackgroundMesh) X(gmshModelMeshFieldSetString) X(gmshModelMeshGenerate) X(gmshModelMeshGetElements) \
+  X(gmshModelMeshGetNodes) X(gmshModelMeshSetSizeCallback) X(gmshOpen) \
+  X(gmshOptionSetNumber) X(gmshWrite)
+static struct {
+#define X(f) __typeof__(&f) f;
+  GMSH_FUNCTIONS(X)
+#undef X
+} G;
+
+static int LoadGmsh(Ctx *c)
+{
+  static void *lib;
+  void        *h;
+  if (lib) return 0;
+  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
+#define X(f) \
+  if (!(*(void **)&G.f = dlsym(h, #f))) return Fail(c, "gmsh's library %s has no function %s", M2D_GMSH_LIBRARY, #f);
+  GMSH_FUNCTIONS(X)
+#undef X
+  lib = h; /* never closed: gmsh's libraries are not made to be unloaded */
+  return 0;
+}
+
+/* gmsh reports errors through its logger (General.AbortOnError = 0 keeps its
+ * parser usable after a syntax error): fail with the first error line logged. */
+static int GmshError(Ctx *c, int ierr, const char *during)
+{
+  char **log = NULL, first[768] = "";
+  size_t n = 0;
+  int    e = 0;
+  G.gmshLoggerGet(&log, &n, &e);
+  for (size_t i = 0; i < n; i++) {
+    if (!first[0] && !strncmp(log[i], "Error: ", 7)) snprintf(first, sizeof(first), "%s", log[i] + 7);
+    G.gmshFree(log[i]);
+  }
+  G.gmshFree(log);
+  if (first[0]) return Fail(c, "gmsh failed %s: %s", during, first);
+  if (ierr) return Fail(c, "gmsh failed %s (no message)", during);
+  return 0;
+}
+
+static int ValidName(const char *s)
+{
+  if (!s || !(*s == '_' || (*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z'))) return 0;
+  for (s++; *s; s++)
+    if (!(*s == '_' || (*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || (*s >= '0' && *s <= '9'))) return 0;
+  return 1;
+}
+
+/* gmsh 4.8 cannot undo a .geo's Transfinite constraints, which would silently
+ * override the field: a .geo that has some must skip them under m2d_size_field. */
+static int CheckTransfinite(Ctx *c, const char *geo)
+{
+  FILE  *fp = fopen(geo, "rb");
+  char  *text;
+  long   n;
+  int    bad = 0;
+  if (!fp) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
+  if (fseek(fp, 0, SEEK_END) || (n = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET) || !(text = (char *)malloc((size_t)n + 1))) {
+    fclose(fp);
+    return Fail(c, "cannot read the .geo file");
+  }
+  text[fread(text, 1, (size_t)n, fp)] = 0;
+  fclose(fp);
+  bad = strstr(text, "Transfinite") && !strstr(text, "m2d_size_field");
+  free(text);
+  return bad ? Fail(c, "its Transfinite constraints would override the size field: put them in If (!Exists(m2d_size_field)) ... EndIf") : 0;
+}
+
+static int CheckInput(Ctx *c, const M2dRemeshInput *in)
+{
+  FILE *fp;
+  if (!in->geo) return Fail(c, "no .geo file given");
+  if (!(fp = fopen(in->geo, "r"))) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
+  fclose(fp);
+  for (int i = 0; i < in->nnumber; i++) {
+    if (!ValidName(in->names[i])) return Fail(c, "parameter name '%s' is not an identifier", in->names[i] ? in->names[i] : "(null)");
+    if (!isfinite(in->values[i])) return Fail(c, "parameter '%s' is not a finite number", in->names[i]);
+  }
+  if (!in->prev && !in->hnode && !in->hcell) return 0;
+  if (!in->prev || !in->prev->nquad || !!in->hnode == !!in->hcell) return Fail(c, "a size field needs the previous mesh and exactly one of sizes per node, sizes per cell");
+  if (in->hmin < 0 || in->hmax < 0 || (in->hmax > 0 && in->hmin > in->hmax)) return Fail(c, "size clamp [%g, %g] is not valid", in->hmin, in->hmax);
+  if (in->quads < M2D_QUADS_SUBDIVIDE || in->quads > M2D_QUADS_BLOSSOM) return Fail(c, "unknown quad algorithm %d", (int)in->quads);
+  {
+    long n = in->hnode ? in->prev->nnode : in->prev->nquad;
+    const double *h = in->hnode ? in->hnode : in->hcell;
+    for (long i = 0; i < n; i++)
+      if (!(h[i] > 0) || !isfinite(h[i])) return Fail(c, "size %g at %s %ld of the previous mesh is not a positive number", h[i], in->hnode ? "node" : "cell", i);
+  }
+  for (long q = 0; q < 4 * in->prev->nquad; q++)
+    if (in->prev->quad[q] < 0 || in->prev->quad[q] >= in->prev->nnode) return Fail(c, "previous mesh: quad %ld has node %ld out of range", q / 4, in->prev->quad[q]);
+  return CheckTransfinite(c, in->geo);
+}
+
+/* gmsh's -setnumber survives gmshFinalize (it would leak into later calls), and
+ * 4.8 has no parser API: the numbers go in a wrapper .geo that defines them and
+ * includes the scene's .geo, where DefineConstant keeps them and Exists sees them.
+ * With a size field it also defines m2d_size_field (see remesh.h). */
+static int WriteWrapper(Ctx *c, const M2dRemeshInput *in, char *path)
+{
+  char        abs[PATH_MAX];
+  const char *dir = getenv("TMPDIR");
+  FILE       *fp;
+  int         fd;
+  if (!realpath(in->geo, abs)) return Fail(c, "cannot resolve the path: %s", strerror(errno));
+  if (strchr(abs, '"')) return Fail(c, "the path holds a double quote");
+  snprintf(c->wrapper, sizeof(c->wrapper), "%s/m2d_remesh_XXXXXX.geo", dir && *dir ? dir : "/tmp");
+  if ((fd = mkstemps(c->wrapper, 4)) < 0 || !(fp = fdopen(fd, "w"))) {
+    if (fd >= 0) close(fd);
+    Fail(c, "cannot create a temporary file '%s': %s", c->wrapper, strerror(errno));
+    if (fd >= 0) unlink(c->wrapper);
+    c->wrapper[0] = 0;
+    return 1;
+  }
+  for (int i = 0; i < in->nnumber; i++) fprintf(fp, "%s = %.17g;\n", in->names[i], in->values[i]);
+  if (in->prev) fprintf(fp, "m2d_size_field = 1;\n");
+  fprintf(fp, "Include \"%s\";\n", abs);
+  if (fclose(fp)) return Fail(c, "cannot write the temporary file '%s'", c->wrapper);
+  snprintf(path, PATH_MAX + 64, "%s", c->wrapper);
+  return 0;
+}
+
+static int SetOption(Ctx *c, const char *name, double v)
+{
+  int ierr = 0;
+  G.gmshOptionSetNumber(name, v, &ierr);
+  return ierr ? Fail(c, "gmsh rejected option %s = %g", name, v) : 0;
+}
+
+/* Which previous cells may size a point of entity (dim, tag): those of the
+ * physical surfaces the entity bounds (up to 4, else any), so that each body is
+ * sized by its own cells where the bodies touch. */
+typedef struct {
+  M2dRemeshField *field;
+  double        fac;       /* 2 when triangles are split into quads afterwards */
+  int           maxtag[3];
+  int          *surf[3];   /* [4 tag + k]: physical surface tags, -1 padded; all -1: any */
+} Driver;
+
+static void AddSurfaces(int dim, int tag, int s[4], int *over)
+{
+  int   *up = NULL, *down = NULL, *ph = NULL, ierr = 0;
+  size_t nup = 0, ndown = 0, nph = 0;
+  if (dim == 2) {
+    G.gmshModelGetPhysicalGroupsForEntity(2, tag, &ph, &nph, &ierr);
+    for (size_t i = 0; i < nph; i++) {
+      int k = 0;
+      while (k < 4 && s[k] >= 0 && s[k] != ph[i]) k++;
+      if (k == 4) *over = 1;
+      else s[k] = ph[i];
+    }
+    G.gmshFree(ph);
+    return;
+  }
+  G.gmshModelGetAdjacencies(dim, tag, &up, &nup, &down, &ndown, &ierr);
+  for (size_t i = 0; i < nup; i++) AddSurfaces(dim + 1, up[i], s, over);
+  G.gmshFree(up), G.gmshFree(down);
+}
+
+static int BuildDriver(Ctx *c, Driver *d)
+{
+  for (int dim = 0; dim < 3; dim++) {
+    int   *ents = NULL, ierr = 0;
+    size_t nent = 0;
+    G.gmshModelGetEntities(&ents, &nent, dim, &ierr);
+    d->maxtag[dim] = 0;
+    for (size_t e = 0; e + 1 < nent; e += 2)
+      if (ents[e + 1] > d->maxtag[dim]) d->maxtag[dim] = ents[e + 1];
+    if (!(d->surf[dim] = (int *)malloc(4 * ((size_t)d->maxtag[dim] + 1) * sizeof(int)))) {
+      G.gmshFree(ents);
+      return Fail(c, "out of memory");
+    }
+    for (int i = 0; i < 4 * (d->maxtag[dim] + 1); i++) d->surf[dim][i] = -1;
+    for (size_t e = 0; e + 1 < nent; e += 2) {
+      int *s = &d->surf[dim][4 * ents[e + 1]], over = 0;
+      if (ents[e + 1] < 0) continue;
+      AddSurfaces(dim, ents[e + 1], s, &over);
+      if (over) s[0] = s[1] = s[2] = s[3] = -1;
+    }
+    G.gmshFree(ents);
+  }
+  return 0;
+}
+
+static double SizeCallback(int dim, int tag, double x, double y, double z, void *data)
+{
+  const Driver *d = (const Driver *)data;
+  double        h = -1, v;
+  (void)z;
+  if (dim >= 0 && dim <= 2 && tag >= 0 && tag <= d->maxtag[dim])
+    for (const int *s = &d->surf[dim][4 * tag], *e = s + 4; s < e && *s >= 0; s++)
+      if ((v = M2dRemeshFieldEval(d->field, *s, x, y)) > 0 && (h < 0 || v < h)) h = v;
+  if (h <= 0) h = M2dRemeshFieldEval(d->field, -1, x, y);
+  return d->fac * h;
+}
+
+/* The field as gmsh's mesh-size callback, and every other size source off: gmsh
+ * takes the smallest of the callback, the background field, point sizes,
+ * curvature and the model size, so the .geo's own field is replaced by a
+ * constant larger than any size. */
+static int SetSizeField(Ctx *c, const M2dRemeshInput *in, Driver *d)
+{
+  int ierr = 0, field;
+  /* subdivision splits each triangle edge in two: triangles at 2h give quads at h */
+  d->fac = in->quads == M2D_QUADS_SUBDIVIDE ? 2 : 1;
+  if (M2dRemeshFieldCreate(in->prev, in->hnode, in->hcell, in->hmin, in->hmax, &d->field)) return Fail(c, "out of memory for the size field");
+  if (BuildDriver(c, d)) return 1;
+  field = G.gmshModelMeshFieldAdd("MathEval", -1, &ierr);
+  if (!ierr) G.gmshModelMeshFieldSetString(field, "F", "1e22", &ierr);
+  if (!ierr) G.gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
+  if (!ierr) G.gmshModelMeshSetSizeCallback(SizeCallback, d, &ierr);
+  if (ierr || GmshError(c, ierr, "to set the size field")) return 1;
+  return SetOption(c, "Mesh.MeshSizeFromPoints", 0) || SetOption(c, "Mesh.MeshSizeFromCurvature", 0) || SetOption(c, "Mesh.MeshSizeExtendFromBoundary", 0) || SetOption(c, "Mesh.MeshSizeFactor", 1) ||
+         SetOption(c, "Mesh.MeshSizeMin", 0) || SetOption(c, "Mesh.MeshSizeMax", 1e22) || SetOption(c, "Mesh.ElementOrder", 1) || SetOption(c, "Mesh.Algorithm", 6) || SetOption(c, "Mesh.RecombineAll", 1) ||
+         SetOption(c, "Mesh.RecombinationAlgorithm", in->quads == M2D_QUADS_FULLQUAD ? 3 : 1) || SetOption(c, "Mesh.SubdivisionAlgorithm", in->quads == M2D_QUADS_SUBDIVIDE ? 1 : 0);
+}
+
+/* ---------- the mesh out of gmsh ---------- */
+typedef struct {
+  long  *pos; /* gmsh node tag -> position in gmsh's node list, -1 if none */
+  size_t maxtag;
+  long   qcap, lcap, pcap; /* allocated quads, lines, points */
+} Tables;
+
+static long Pos(const Tables *t, size_t tag)
+{
+  return tag <= t->maxtag ? t->pos[tag] : -1;
+}
+
+static int Resize(Ctx *c, void **a, long n, size_t size)
+{
+  void *b = realloc(*a, (size_t)n * size);
+  if (!b) return Fail(c, "out of memory");
+  *a = b;
+  return 0;
+}
+
+/* capacity for need entries, doubling */
+static long NewCap(long cap, long need)
+{
+  long nc = cap ? cap : 256;
+  if (need <= cap) return cap;
+  while (nc < need) nc *= 2;
+  return nc;
+}
+
+static int AddElement(Ctx *c, MshMesh *m, Tables *t, int dim, const long *node, size_t tag, int phys)
+{
+  long nc;
+  if (dim == 2) {
+    if ((nc = NewCap(t->qcap, m->nquad + 1)) > t->qcap) {
+      if (Resize(c, (void **)&m->quad, 4 * nc, sizeof(long)) || Resize(c, (void **)&m->quadtag, nc, sizeof(long)) || Resize(c, (void **)&m->quadphys, nc, sizeof(int))) return 1;
+      t->qcap = nc;
+    }
+    memcpy(&m->quad[4 * m->nquad], node, 4 * sizeof(long));
+    m->quadtag[m->nquad]    = (long)tag;
+    m->quadphys[m->nquad++] = phys;
+  } else if (dim == 1) {
+    if ((nc = NewCap(t->lcap, m->nline + 1)) > t->lcap) {
+      if (Resize(c, (void **)&m->line, 2 * nc, sizeof(long)) || Resize(c, (void **)&m->linephys, nc, sizeof(int))) return 1;
+      t->lcap = nc;
+    }
+    memcpy(&m->line[2 * m->nline], node, 2 * sizeof(long));
+    m->linephys[m->nline++] = phys;
+  } else {
+    if ((nc = NewCap(t->pcap, m->npoint + 1)) > t->pcap) {
+      if (Resize(c, (void **)&m->point, nc, sizeof(long)) || Resize(c, (void **)&m->pointphys, nc, sizeof(int))) return 1;
+      t->pcap = nc;
+    }
+    m->point[m->npoint]       = node[0];
+    m->pointphys[m->npoint++] = phys;
+  }
+  return 0;
+}
+
+/* Elements of one entity of dimension dim (one copy per physical group for
+ * curves and points, as MshRead keeps them); node numbers are gmsh positions. */
+static int TakeEntity(Ctx *c, MshMesh *m, Tables *t, int dim, int tag, const int *ph, size_t nph)
+{
+  int     *types = NULL, ierr = 0, rc = 0;
+  int      want = dim == 2 ? 3 : dim == 1 ? 1 : 15, nn = dim == 2 ? 4 : dim == 1 ? 2 : 1;
+  size_t   ntypes = 0, **et = NULL, *etn = NULL, etnn = 0, **nt = NULL, *ntn = NULL, ntnn = 0;
+  G.gmshModelMeshGetElements(&types, &ntypes, &et, &etn, &etnn, &nt, &ntn, &ntnn, dim, tag, &ierr);
+  if (ierr) rc = GmshError(c, ierr, "to return the elements");
+  for (size_t k = 0; k < ntypes && !rc; k++) {
+    if (types[k] != want) {
+      const char *what = dim == 2 ? (types[k] == 2 ? "a triangle is left" : "cells are not 4-node quadrilaterals") : "boundary elements are not first order";
+      rc = Fail(c, "%s in %s %d (gmsh element type %d)", what, dim == 2 ? "surface" : dim == 1 ? "curve" : "point", tag, types[k]);
+    }
+    for (size_t e = 0; e < etn[k] && !rc; e++) {
+      long node[4];
+      for (int j = 0; j < nn && !rc; j++)
+        if ((node[j] = Pos(t, nt[k][nn * e + j])) < 0) rc = Fail(c, "element %zu uses an unknown node", et[k][e]);
+      for (size_t g = 0; g < (dim == 2 || !nph ? 1 : nph) && !rc; g++) rc = AddElement(c, m, t, dim, node, et[k][e], nph ? ph[g] : -1);
+    }
+  }
+  for (size_t k = 0; k < ntypes; k++) {
+    G.gmshFree(et[k]);
+    G.gmshFree(nt[k]);
+  }
+  G.gmshFree(types), G.gmshFree(et), G.gmshFree(etn), G.gmshFree(nt), G.gmshFree(ntn);
+  return rc;
+}
+
+static int TakePhysicalNames(Ctx *c, MshMesh *m)
+{
+  int   *pg = NULL, ierr = 0;
+  size_t npg = 0;
+  G.gmshModelGetPhysicalGroups(&pg, &npg, -1, &ierr);
+  if (ierr) return GmshError(c, ierr, "to list the physical groups");
+  if (!(m->phys = (MshPhysical *)calloc(npg / 2 + 1, sizeof(MshPhysical)))) {
+    G.gmshFree(pg);
+    return Fail(c, "out of memory");
+  }
+  for (size_t i = 0; i + 1 < npg; i += 2) {
+    char        *name = NULL;
+    MshPhysical *p    = &m->phys[m->nphys++];
+    G.gmshModelGetPhysicalName(pg[i], pg[i + 1], &name, &ierr);
+    p->dim = pg[i];
+    p->tag = pg[i + 1];
+    snprintf(p->name, sizeof(p->name), "%s", name ? name : "");
+    G.gmshFree(name);
+  }
+  G.gmshFree(pg);
+  return 0;
+}
+
+/* Keep the nodes the elements use, numbered in gmsh's order (that of its .msh). */
+static int Compact(Ctx *c, MshMesh *m, const double *coord, size_t nnode)
+{
+  long *renum = (long *)malloc((nnode + 1) * sizeof(long)), n = 0;
+  if (!renum) return Fail(c, "out of memory");
+  for (size_t i = 0; i < nnode; i++) renum[i] = -1;
+  for (long i = 0; i < 4 * m->nquad; i++) renum[m->quad[i]] = 0;
+  for (long i = 0; i < 2 * m->nline; i++) renum[m->line[i]] = 0;
+  for (long i = 0; i < m->npoint; i++) renum[m->point[i]] = 0;
+  for (size_t i = 0; i < nnode; i++)
+    if (!renum[i]) renum[i] = n++;
+  if (!(m->xy = (double *)malloc((size_t)(n ? n : 1) * 2 * sizeof(double)))) {
+    free(renum);
+    return Fail(c, "out of memory");
+  }
+  for (size_t i = 0; i < nnode; i++)
+    if (renum[i] >= 0) {
+      m->xy[2 * renum[i]]     = coord[3 * i];
+      m->xy[2 * renum[i] + 1] = coord[3 * i + 1];
+    }
+  m->nnode = n;
+  for (long i = 0; i < 4 * m->nquad; i++) m->quad[i] = renum[m->quad[i]];
+  for (long i = 0; i < 2 * m->nline; i++) m->line[i] = renum[m->line[i]];
+  for (long i = 0; i < m->npoint; i++) m->point[i] = renum[m->point[i]];
+  free(renum);
+  return 0;
+}
+
+/* Surfaces in no physical group are left out when the model has groups, as
+ * gmsh's .msh leaves them out (Mesh.SaveAll = 0). */
+static int TakeMesh(Ctx *c, MshMesh *m)
+{
+  size_t   *tags = NULL, ntag = 0, ncoord = 0, npar = 0;
+  double   *coord = NULL, *par = NULL;
+  int       ierr = 0, rc = 0;
+  Tables    t = {NULL, 0, 0, 0, 0};
+  if (TakePhysicalNames(c, m)) return 1;
+  G.gmshModelMeshGetNodes(&tags, &ntag, &coord, &ncoord, &par, &npar, -1, -1, 0, 0, &ierr);
+  if (ierr) return GmshError(c, ierr, "to return the nodes");
+  for (size_t i = 0; i < ntag; i++)
+    if (tags[i] > t.maxtag) t.maxtag = tags[i];
+  if (!(t.pos = (long *)malloc((t.maxtag + 1) * sizeof(long)))) rc = Fail(c, "out of memory");
+  for (size_t i = 0; !rc && i <= t.maxtag; i++) t.pos[i] = -1;
+  for (size_t i = 0; !rc && i < ntag; i++) t.pos[tags[i]] = (long)i;
+  for (int dim = 2; dim >= 0 && !rc; dim--) {
+    int   *ents = NULL;
+    size_t nent = 0;
+    G.gmshModelGetEntities(&ents, &nent, dim, &ierr);
+    for (size_t e = 0; e + 1 < nent && !rc; e += 2) {
+      int   *ph = NULL;
+      size_t nph = 0;
+      G.gmshModelGetPhysicalGroupsForEntity(dim, ents[e + 1], &ph, &nph, &ierr);
+      if (nph || (!m->nphys && dim == 2)) rc = TakeEntity(c, m, &t, dim, ents[e + 1], ph, nph);
+      G.gmshFree(ph);
+    }
+    G.gmshFree(ents);
+  }
+  if (!rc && !m->nquad) rc = Fail(c, "the mesh has no quadrilaterals");
+  if (!rc) rc = Compact(c, m, coord, ntag);
+  free(t.pos);
+  G.gmshFree(tags), G.gmshFree(coord), G.gmshFree(par);
+  return rc;
+}
+
+/* corner k: Jacobian of the bilinear map = cross product of the two edges */
+static void Corner(const MshMesh *m, long q, int k, double *jac, double *deg)
+{
+  const double *p = &m->xy[2 * m->quad[4 * q + k]], *a = &m->xy[2 * m->quad[4 * q + (k + 1) % 4]], *b = &m->xy[2 * m->quad[4 * q + (k + 3) % 4]];
+  double        u[2] = {a[0] - p[0], a[1] - p[1]}, v[2] = {b[0] - p[0], b[1] - p[1]};
+  *jac = u[0] * v[1] - u[1] * v[0];
+  *deg = atan2(*jac, u[0] * v[0] + u[1] * v[1]) * 180 / M_PI;
+}
+
+void M2dQuadQualityCompute(const MshMesh *m, M2dQuadQuality *q)
+{
+  q->nquad     = m->nquad;
+  q->min_angle = 360, q->max_angle = -360, q->min_jratio = 1, q->nbad = 0;
+  for (long e = 0; e < m->nquad; e++) {
+    double jmin = 1e300, jmax = -1e300, amin = 360, amax = -360, j, a;
+    for (int k = 0; k < 4; k++) {
+      Corner(m, e, k, &j, &a);
+      if (j < jmin) jmin = j;
+      if (j > jmax) jmax = j;
+      if (a < amin) amin = a;
+      if (a > amax) amax = a;
+    }
+    if (amin < q->min_angle) q->min_angle = amin;
+    if (amax > q->max_angle) q->max_angle = amax;
+    if (jmax > 0 && jmin / jmax < q->min_jratio) q->min_jratio = jmin / jmax;
+    if (jmax <= 0) q->min_jratio = -1;
+    if (amin < 30 || amax > 150) q->nbad++;
+  }
+}
+
+/* every quad counter-clockwise (a clockwise curve loop gives clockwise quads),
+ * then convex: all corner Jacobians positive, as mesh.c requires */
+static int Orient(Ctx *c, MshMesh *m)
+{
+  for (long q = 0; q < m->nquad; q++) {
+    long  *n = &m->quad[4 * q];
+    double area = 0, j, a;
+    for (int k = 0; k < 4; k++) area += m->xy[2 * n[k]] * m->xy[2 * n[(k + 1) % 4] + 1] - m->xy[2 * n[(k + 1) % 4]] * m->xy[2 * n[k] + 1];
+    if (area < 0) {
+      long s = n[1];
+      n[1]   = n[3];
+      n[3]   = s;
+    }
+    for (int k = 0; k < 4; k++) {
+      Corner(m, q, k, &j, &a);
+      if (!(j > 0)) {
+        const char *pn = MshPhysicalName(m, 2, m->quadphys[q]);
+        return Fail(c, "gmsh made a non-convex or degenerate quadrilateral (element %ld%s%s%s, corner Jacobian %g)", m->quadtag[q], pn ? " in '" : "", pn ? pn : "", pn ? "'" : "", j);
+      }
+    }
+  }
+  return 0;
+}
+
+static int Write(Ctx *c, const char *path)
+{
+  int ierr = 0;
+  if (SetOption(c, "Mesh.MshFileVersion", 4.1) || SetOption(c, "Mesh.Binary", 0)) return 1;
+  G.gmshWrite(path, &ierr);
+  return GmshError(c, ierr, "to write the mesh file");
+}
+
+/* The recombination (Blossom) prints warnings with printf, past General.Terminal:
+ * stdout goes to /dev/null while gmsh meshes, unless verbose. */
+static void Quiet(int on, int *saved)
+{
+  int null;
+  fflush(stdout);
+  if (on && *saved < 0 && (null = open("/dev/null", O_WRONLY)) >= 0) {
+    *saved = dup(STDOUT_FILENO);
+    if (*saved >= 0) dup2(null, STDOUT_FILENO);
+    close(null);
+  } else if (!on && *saved >= 0) {
+    dup2(*saved, STDOUT_FILENO);
+    close(*saved);
+    *saved = -1;
+  }
+}
+
+static int Run(Ctx *c, const M2dRemeshInput *in, Driver *d, MshMesh *out, M2dRemeshStats *st, double t0)
+{
+  char geo[PATH_MAX + 64];
+  int  ierr = 0, *ents = NULL, saved = -1;
+  size_t nent = 0;
+  snprintf(geo, sizeof(geo), "%s", in->geo);
+  if ((in->nnumber || in->prev) && WriteWrapper(c, in, geo)) return 1;
+  if (SetOption(c, "General.Terminal", in->verbose ? 1 : 0) || SetOption(c, "General.Verbosity", in->verbose ? 4 : 2) || SetOption(c, "General.AbortOnError", 0) || SetOption(c, "General.NumThreads", 1)) return 1;
+  G.gmshLoggerStart(&ierr);
+  G.gmshOpen(geo, &ierr);
+  if (GmshError(c, ierr, "to read it")) return 1;
+  G.gmshModelGetEntities(&ents, &nent, 2, &ierr);
+  G.gmshFree(ents);
+  if (!nent) return Fail(c, "it defines no surface");
+  if ((in->hnode || in->hcell) && SetSizeField(c, in, d)) return 1;
+  st->seconds_open = Now() - t0;
+  Quiet(!in->verbose, &saved);
+  G.gmshModelMeshGenerate(2, &ierr);
+  Quiet(0, &saved);
+  if (GmshError(c, ierr, "to mesh it")) return 1;
+  st->seconds_generate = Now() - t0 - st->seconds_open;
+  if (in->write_msh && Write(c, in->write_msh)) return 1;
+  return TakeMesh(c, out) || Orient(c, out);
+}
+
+int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, char *err, size_t errlen)
+{
+  Ctx            c;
+  M2dRemeshStats st;
+  Driver         d;
+  double         t0 = Now();
+  char          *argv[] = {(char *)"mortar2d", NULL}, locale[512];
+  int            ierr   = 0;
+
+  memset(out, 0, sizeof(*out));
+  memset(&st, 0, sizeof(st));
+  memset(&c, 0, sizeof(c));
+  memset(&d, 0, sizeof(d));
+  c.geo    = in ? in->geo : NULL;
+  c.err    = err;
+  c.errlen = errlen;
+  if (err && errlen) err[0] = 0;
+  if (!in) return Fail(&c, "no input");
+  if (CheckInput(&c, in) || LoadGmsh(&c)) return 1;
+  /* gmsh sets the process locale; put back the caller's */
+  snprintf(locale, sizeof(locale), "%s", setlocale(LC_ALL, NULL) ? setlocale(LC_ALL, NULL) : "C");
+  G.gmshInitialize(1, argv, 0, &ierr);
+  if (ierr) Fail(&c, "gmsh did not initialise");
+  else {
+    Run(&c, in, &d, out, &st, t0);
+    G.gmshLoggerStop(&ierr);
+    G.gmshFinalize(&ierr);
+  }
+  M2dRemeshFieldDestroy(&d.field);
+  for (int k = 0; k < 3; k++) free(d.surf[k]);
+  setlocale(LC_ALL, locale);
+  if (c.wrapper[0]) unlink(c.wrapper);
+  if (c.failed) {
+    MshFree(out);
+    return 1;
+  }
+  M2dQuadQualityCompute(out, &st.quality);
+  st.seconds_total = Now() - t0;
+  if (stats) *stats = st;
+  return 0;
+}
