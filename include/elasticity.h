@@ -6,7 +6,7 @@
  * [xx, yy, xy] with engineering shear strain. */
 #ifndef M2D_ELASTICITY_H
 #define M2D_ELASTICITY_H
-#include "mesh.h"
+#include "frames.h"
 #include "scene.h"
 
 /* material matrix (3x3, row major) */
@@ -22,10 +22,11 @@ void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri,
 PetscReal M2dLambda(PetscReal E, PetscReal nu, M2dPlane plane);
 
 /* assemble K and the load vector f (edge loads, body force of the MMS) */
-PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Vec f);
-/* Dirichlet rows (global, locally owned) and their values; the caller
- * PetscFree()s each array. Collective. */
-PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals);
+/* K and f in the frames' coordinates (frames.h: identity where no frame). Collective. */
+PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, Mat K, Vec f);
+/* Dirichlet rows (global, locally owned, in the frames' coordinates) and
+ * their values; the caller PetscFree()s each array. Not collective. */
+PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt *n, PetscInt **rows, PetscScalar **vals);
 /* Apply Dirichlet rows to K, f (symmetric elimination, u set on those rows) */
 PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);
 /* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */

@@ -7,6 +7,7 @@
  * surfaces, segments, rows; Assembly: K, f, supports, KKT). */
 #ifndef M2D_PROBLEM_H
 #define M2D_PROBLEM_H
+#include "frames.h"
 #include "msh.h"
 #include "supports.h"
 #include "units.h"
@@ -32,6 +33,8 @@ typedef struct {
   PetscInt        ndir;  /* Dirichlet rows owned by this rank */
   PetscInt       *drows;
   M2dSupports     supports; /* is every body held (with a given contact set)? */
+  M2dFrames       frames;   /* supports per vertex; inclined ones rotate the vertex's dofs (frames.h) */
+  M2dContactRows  Rkkt;     /* with frames: the contact rows in the frames' coordinates (the KKT's) */
   M2dKKT          kkt;   /* with contact */
   PetscBool      *warm;  /* with contact: the first active set (one per multiplier, every rank), or NULL */
 } M2dProblem;

@@ -12,6 +12,7 @@
 #ifndef M2D_SUPPORTS_H
 #define M2D_SUPPORTS_H
 #include "contact.h"
+#include "frames.h"
 
 #define M2D_MAX_MODES (3 * M2D_MAX_BODIES)
 
@@ -23,8 +24,9 @@ typedef struct {
 } M2dSupports;
 
 /* The body frames and the Dirichlet part of G from this rank's Dirichlet rows
- * drows (global dofs). Collective on the mesh's communicator. */
-PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, PetscInt ndir, const PetscInt drows[], M2dSupports *sup);
+ * drows (global dofs, in the vertices' frames fr). Collective on the mesh's
+ * communicator. */
+PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt ndir, const PetscInt drows[], M2dSupports *sup);
 /* Fail with one line naming the body and the free motion if G, with the
  * contact rows of ct selected by active (every multiplier, 1/0; NULL = every
  * candidate; ct NULL = no contact), is singular. `when` (may be NULL) is

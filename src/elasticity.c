@@ -283,7 +283,7 @@ PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Vec f)
+PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, Mat K, Vec f)
 {
   PetscSection       lsec, cs;
   Vec                cl, fl;
@@ -306,6 +306,7 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Ve
     PetscInt    b = m->cellbody[c - m->cStart];
     MeshCellCoordinates(m, ca, cs, c, xy);
     Q4Stiffness(xy, D[b], s->sri, lam[b], Ke);
+    M2dFramesRotateElement(fr, m, &m->cellverts[4 * (c - m->cStart)], Ke);
     PetscCall(CellDofs(m, lsec, c, idx));
     PetscCall(MatSetValuesLocal(K, 8, idx, 8, idx, Ke, ADD_VALUES));
     if (s->exact == M2D_EXACT_MMS) { /* body force, 3x3 Gauss */
@@ -327,6 +328,7 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Ve
   }
   PetscCall(AddEdgeLoads(m, s, ca, cs, lsec, fa));
   PetscCall(VecRestoreArray(fl, &fa));
+  PetscCall(M2dFramesRotateLocal(fr, m, fl, PETSC_FALSE)); /* f~ = T^T f, each rank's share */
   PetscCall(VecRestoreArrayRead(cl, &ca));
   PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
@@ -336,52 +338,21 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, Mat K, Ve
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, PetscInt *n, PetscInt **rows, PetscScalar **vals)
+PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt *n, PetscInt **rows, PetscScalar **vals)
 {
   PetscSection       gsec, cs;
   Vec                cl;
   const PetscScalar *ca;
   PetscInt           nv = m->vEnd - m->vStart, cnt = 0;
-  PetscInt          *flag; /* bit 0: x fixed, bit 1: y fixed */
-  PetscReal         *value;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(PetscCalloc2(nv, &flag, 2 * nv, &value));
-  for (PetscInt k = 0; k < s->ndir; k++) {
-    const M2dDirichlet *bc = &s->dir[k];
-    IS                 is;
-    const PetscInt    *pts;
-    PetscInt           np;
-    PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
-    PetscCall(ISGetLocalSize(is, &np));
-    PetscCall(ISGetIndices(is, &pts));
-    for (PetscInt i = 0; i < np; i++) {
-      PetscInt        vv[2], nvv = 0;
-      const PetscInt *cone;
-      if (pts[i] >= m->vStart && pts[i] < m->vEnd) vv[nvv++] = pts[i];
-      else if (pts[i] >= m->eStart && pts[i] < m->eEnd) {
-        PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
-        vv[nvv++] = cone[0];
-        vv[nvv++] = cone[1];
-      }
-      for (PetscInt j = 0; j < nvv; j++)
-        for (int d = 0; d < 2; d++)
-          if (bc->comp[d]) {
-            flag[vv[j] - m->vStart] |= 1 << d;
-            value[2 * (vv[j] - m->vStart) + d] = bc->value[d];
-          }
-    }
-    PetscCall(ISRestoreIndices(is, &pts));
-    PetscCall(ISDestroy(&is));
-  }
   for (PetscInt v = 0; v < nv; v++) {
     PetscInt goff;
     PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
-    if (goff < 0) flag[v] = 0; /* owned by another rank, which sets it */
-    cnt += (flag[v] & 1) + ((flag[v] >> 1) & 1);
+    if (goff >= 0) cnt += (fr->mask[v] & 1) + ((fr->mask[v] >> 1) & 1); /* the owner sets them */
   }
   PetscCall(PetscMalloc1(cnt + 1, rows));
   PetscCall(PetscMalloc1(cnt + 1, vals));
@@ -389,21 +360,23 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, Pets
   cnt = 0;
   for (PetscInt v = 0; v < nv; v++) {
     PetscInt  goff, coff;
-    PetscReal ue[2] = {0, 0};
-    if (!flag[v]) continue;
+    PetscReal ue[2], nrm[2];
     PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
-    if (s->exact == M2D_EXACT_MMS) {
+    if (!fr->mask[v] || goff < 0) continue;
+    ue[0] = fr->value[2 * v];
+    ue[1] = fr->value[2 * v + 1];
+    if (s->exact == M2D_EXACT_MMS) { /* the exact field, in the vertex's frame */
       PetscCall(PetscSectionGetOffset(cs, v + m->vStart, &coff));
       M2dMMSDisplacement(s, PetscRealPart(ca[coff]), PetscRealPart(ca[coff + 1]), ue);
+      if (M2dFramesAt(fr, m, v + m->vStart, nrm)) ue[0] = nrm[0] * ue[0] + nrm[1] * ue[1];
     }
     for (int d = 0; d < 2; d++)
-      if (flag[v] & (1 << d)) {
+      if (fr->mask[v] & (1 << d)) {
         (*rows)[cnt]   = goff + d;
-        (*vals)[cnt++] = s->exact == M2D_EXACT_MMS ? ue[d] : value[2 * v + d];
+        (*vals)[cnt++] = ue[d];
       }
   }
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(PetscFree2(flag, value));
   *n = cnt;
   PetscFunctionReturn(0);
 }

@@ -514,13 +514,16 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
 /* ---------- true error where the answer is known ---------- */
 
 /* exact stress at (px, py) in body b: MMS by central differences of the
- * manufactured displacement (step dh), or the uniform sig_yy = -p */
+ * manufactured displacement (step dh), or the uniform sig_y'y' = -p in the
+ * frame turned by -exact_angle */
 static void ExactStress(const M2dScene *s, const BodyMat *bm, PetscReal px, PetscReal py, PetscReal dh, PetscReal sig[3])
 {
   PetscReal eps[3], up[2], um[2], vp[2], vm[2];
-  if (s->exact == M2D_EXACT_UNIFORM) {
-    sig[0] = sig[2] = 0;
-    sig[1]          = -s->exact_p;
+  if (s->exact == M2D_EXACT_UNIFORM) { /* -p y' y'^T, y' = (-sin, cos) of -exact_angle */
+    PetscReal sn = PetscSinReal(s->exact_angle * PETSC_PI / 180), cs = PetscCosReal(s->exact_angle * PETSC_PI / 180);
+    sig[0] = -s->exact_p * sn * sn;
+    sig[1] = -s->exact_p * cs * cs;
+    sig[2] = s->exact_p * sn * cs;
     return;
   }
   M2dMMSDisplacement(s, px + dh, py, up);

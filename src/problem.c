@@ -96,12 +96,13 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_PREALLOC], 0, 0, 0, 0));
   PetscCall(DMCreateGlobalVector(m->dm, &pb->f));
   PetscCall(VecDuplicate(pb->f, &pb->ubc));
+  PetscCall(M2dFramesCreate(m, &pb->s, &pb->frames));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
-  PetscCall(ElasticityAssemble(m, &pb->s, pb->K, pb->f));
+  PetscCall(ElasticityAssemble(m, &pb->s, &pb->frames, pb->K, pb->f));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
-  PetscCall(ElasticityDirichletRows(m, &pb->s, &pb->ndir, &pb->drows, &dvals));
-  PetscCall(M2dSupportsCreate(m, &pb->s, pb->ndir, pb->drows, &pb->supports));
+  PetscCall(ElasticityDirichletRows(m, &pb->s, &pb->frames, &pb->ndir, &pb->drows, &dvals));
+  PetscCall(M2dSupportsCreate(m, &pb->s, &pb->frames, pb->ndir, pb->drows, &pb->supports));
   PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
   PetscCall(ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals));
   PetscCall(PetscFree(dvals));
@@ -128,7 +129,8 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
   PetscCall(Assemble(pb));
   if (pb->has_contact) {
     PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
-    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->contact.R, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
+    PetscCall(M2dFramesRotateRows(&pb->frames, &pb->mesh, &pb->contact.R, &pb->Rkkt));
+    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->Rkkt, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
     PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
   }
   *t_assembly = M2dWallTime() - *t_assembly;
@@ -142,9 +144,11 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
   if (pb->has_contact) {
     PetscCall(ContactDestroy(&pb->contact));
     PetscCall(KKTDestroy(&pb->kkt));
+    PetscCall(ContactRowsDestroy(&pb->Rkkt));
   }
   PetscCall(PetscFree(pb->drows));
   PetscCall(PetscFree(pb->warm));
+  PetscCall(M2dFramesDestroy(&pb->frames));
   PetscCall(VecDestroy(&pb->ubc));
   PetscCall(VecDestroy(&pb->f));
   PetscCall(MatDestroy(&pb->K));

@@ -63,7 +63,7 @@ static PetscErrorCode BodyFrames(const M2dMesh *m, PetscInt nb, PetscInt *vbody,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, PetscInt ndir, const PetscInt drows[], M2dSupports *sup)
+PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt ndir, const PetscInt drows[], M2dSupports *sup)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   PetscInt           nb = s->nbody, n = 3 * nb, *vbody, *sorted;
@@ -93,10 +93,15 @@ PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, PetscInt n
     x[1] = PetscRealPart(ca[off + 1]);
     for (PetscInt d = 0; d < 2; d++) {
       PetscCall(PetscFindInt(goff + d, ndir, sorted, &loc));
-      if (loc >= 0) {
-        PetscReal g[MAXM] = {0}, r[3];
-        Modes(sup, b, x, d, r);
-        for (int k = 0; k < 3; k++) g[3 * b + k] = r[k];
+      if (loc >= 0) { /* the row holds u.dir: dir = e_d, or the frame's n (d = 0) or t (d = 1) */
+        PetscReal g[MAXM] = {0}, rx[3], ry[3], nrm[2], dir[2] = {(PetscReal)(d == 0), (PetscReal)(d == 1)};
+        if (M2dFramesAt(fr, m, v, nrm)) {
+          dir[0] = d == 0 ? nrm[0] : -nrm[1];
+          dir[1] = d == 0 ? nrm[1] : nrm[0];
+        }
+        Modes(sup, b, x, 0, rx);
+        Modes(sup, b, x, 1, ry);
+        for (int k = 0; k < 3; k++) g[3 * b + k] = dir[0] * rx[k] + dir[1] * ry[k];
         AddRow(sup->gram, n, g);
       }
     }

@@ -1,0 +1,330 @@
+/* frames.c - supports on inclined boundaries (see frames.h). */
+#include "frames.h"
+
+/* the points of support k on this rank: a vertex, or both vertices of an edge */
+static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, PetscInt *nv, PetscInt **verts, PetscReal **dirs)
+{
+  PetscSection       cs;
+  Vec                cl;
+  const PetscScalar *ca;
+  IS                 is;
+  const PetscInt    *pts;
+  PetscInt           np;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
+  PetscCall(ISGetLocalSize(is, &np));
+  PetscCall(ISGetIndices(is, &pts));
+  PetscCall(PetscMalloc2(2 * np + 1, verts, 4 * np + 1, dirs));
+  *nv = 0;
+  for (PetscInt i = 0; i < np; i++) {
+    const PetscInt *cone, *supp;
+    PetscInt        e = pts[i], off[2];
+    PetscReal       xy[8], cx = 0, cy = 0, n[2], len;
+    if (e >= m->vStart && e < m->vEnd) { /* a point support: no normal */
+      (*verts)[*nv] = e;
+      (*dirs)[2 * (*nv)] = (*dirs)[2 * (*nv) + 1] = 0;
+      (*nv)++;
+      continue;
+    }
+    if (e < m->eStart || e >= m->eEnd) continue;
+    PetscCall(DMPlexGetCone(m->dm, e, &cone));
+    PetscCall(DMPlexGetSupport(m->dm, e, &supp));
+    for (int j = 0; j < 2; j++) PetscCall(PetscSectionGetOffset(cs, cone[j], &off[j]));
+    n[0] = PetscRealPart(ca[off[1] + 1] - ca[off[0] + 1]);
+    n[1] = -PetscRealPart(ca[off[1]] - ca[off[0]]);
+    len  = PetscSqrtReal(n[0] * n[0] + n[1] * n[1]);
+    MeshCellCoordinates(m, ca, cs, supp[0], xy);
+    for (int j = 0; j < 4; j++) cx += 0.25 * xy[2 * j], cy += 0.25 * xy[2 * j + 1];
+    if ((0.5 * PetscRealPart(ca[off[0]] + ca[off[1]]) - cx) * n[0] + (0.5 * PetscRealPart(ca[off[0] + 1] + ca[off[1] + 1]) - cy) * n[1] < 0) len = -len; /* outward */
+    /* an edge owned elsewhere counts on its owner only: the sums below add the ranks */
+    if (m->edgeghost[e - m->eStart]) n[0] = n[1] = 0, len = 1;
+    for (int j = 0; j < 2; j++) {
+      (*verts)[*nv]          = cone[j];
+      (*dirs)[2 * (*nv)]     = n[0] / len;
+      (*dirs)[2 * (*nv) + 1] = n[1] / len;
+      (*nv)++;
+    }
+  }
+  PetscCall(ISRestoreIndices(is, &pts));
+  PetscCall(ISDestroy(&is));
+  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscFunctionReturn(0);
+}
+
+/* per local vertex, the same on every rank: for support k, whether it holds
+ * the vertex (XY: one flag per component; n/t: the summed outward normal of
+ * its edges there) */
+static PetscErrorCode SupportAtVertices(const M2dMesh *m, const M2dDirichlet *bc, Vec acc)
+{
+  PetscSection lsec;
+  Vec          g;
+  PetscScalar *a;
+  PetscInt     nv, *verts;
+  PetscReal   *dirs;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(VecZeroEntries(acc));
+  PetscCall(SupportVertices(m, bc, &nv, &verts, &dirs));
+  PetscCall(VecGetArray(acc, &a));
+  for (PetscInt i = 0; i < nv; i++) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(lsec, verts[i], &off));
+    for (int d = 0; d < 2; d++) {
+      if (bc->frame == M2D_BC_XY) a[off + d] = bc->comp[d] ? 1.0 : 0.0;
+      else a[off + d] += dirs[2 * i + d];
+    }
+  }
+  PetscCall(VecRestoreArray(acc, &a));
+  PetscCall(PetscFree2(verts, dirs));
+  PetscCall(DMGetGlobalVector(m->dm, &g));
+  PetscCall(VecZeroEntries(g));
+  PetscCall(DMLocalToGlobal(m->dm, acc, ADD_VALUES, g)); /* XY: flags, tested > 0 */
+  PetscCall(DMGlobalToLocal(m->dm, g, INSERT_VALUES, acc));
+  PetscCall(DMRestoreGlobalVector(m->dm, &g));
+  PetscFunctionReturn(0);
+}
+
+/* add the constraint u.d = V to vertex v's list (directions kept independent) */
+static void AddConstraint(PetscInt *n, PetscReal dir[][2], PetscReal val[], const PetscReal d[2], PetscReal V)
+{
+  for (PetscInt k = 0; k < *n; k++)
+    if (PetscAbsReal(dir[k][0] * d[1] - dir[k][1] * d[0]) < 1e-10) return; /* parallel to one already held */
+  if (*n == 2) return;
+  dir[*n][0] = d[0];
+  dir[*n][1] = d[1];
+  val[(*n)++] = V;
+}
+
+/* vertex v's supports: one inclined direction -> a frame; one axis -> that
+ * component; two independent directions -> both components, u solved from
+ * the two conditions */
+static void Decide(PetscInt n, PetscReal dir[][2], const PetscReal val[], PetscReal frame[2], PetscInt *mask, PetscReal value[2])
+{
+  frame[0] = frame[1] = 0;
+  *mask               = 0;
+  if (n == 1) {
+    PetscInt ax = PetscAbsReal(dir[0][1]) < 1e-12 ? 0 : PetscAbsReal(dir[0][0]) < 1e-12 ? 1 : -1;
+    if (ax >= 0) {
+      *mask     = 1 << ax;
+      value[ax] = val[0] / dir[0][ax];
+    } else {
+      frame[0] = dir[0][0], frame[1] = dir[0][1];
+      *mask    = 1;
+      value[0] = val[0];
+    }
+  } else if (n == 2) {
+    PetscReal det = dir[0][0] * dir[1][1] - dir[0][1] * dir[1][0];
+    *mask         = 3;
+    value[0]      = (val[0] * dir[1][1] - val[1] * dir[0][1]) / det;
+    value[1]      = (dir[0][0] * val[1] - dir[1][0] * val[0]) / det;
+  }
+}
+
+PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *fr)
+{
+  PetscSection       lsec;
+  PetscInt           nv = m->vEnd - m->vStart, *ncon;
+  PetscReal(*dir)[2][2], (*val)[2];
+  Vec                acc;
+  const PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(fr, sizeof(*fr)));
+  PetscCall(PetscCalloc3(2 * nv + 1, &fr->normal, nv + 1, &fr->mask, 2 * nv + 1, &fr->value));
+  PetscCall(PetscCalloc3(nv + 1, &ncon, nv + 1, &dir, nv + 1, &val));
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(DMGetLocalVector(m->dm, &acc));
+  for (PetscInt k = 0; k < s->ndir; k++) {
+    const M2dDirichlet *bc = &s->dir[k];
+    PetscCall(SupportAtVertices(m, bc, acc));
+    PetscCall(VecGetArrayRead(acc, &a));
+    for (PetscInt v = 0; v < nv; v++) {
+      PetscInt  off;
+      PetscReal d[2], l;
+      PetscCall(PetscSectionGetOffset(lsec, m->vStart + v, &off));
+      if (bc->frame == M2D_BC_XY) {
+        for (int c = 0; c < 2; c++)
+          if (PetscRealPart(a[off + c]) > 0) {
+            d[0] = c == 0, d[1] = c == 1;
+            AddConstraint(&ncon[v], dir[v], val[v], d, bc->value[c]);
+          }
+        continue;
+      }
+      l = PetscSqrtReal(PetscSqr(PetscRealPart(a[off])) + PetscSqr(PetscRealPart(a[off + 1])));
+      if (!(l > 0)) continue;
+      d[0] = PetscRealPart(a[off]) / l, d[1] = PetscRealPart(a[off + 1]) / l;
+      if (bc->frame == M2D_BC_TANGENT) { /* t = (-n_y, n_x) */
+        PetscReal t = d[0];
+        d[0]        = -d[1], d[1] = t;
+      }
+      AddConstraint(&ncon[v], dir[v], val[v], d, bc->value[0]);
+    }
+    PetscCall(VecRestoreArrayRead(acc, &a));
+  }
+  PetscCall(DMRestoreLocalVector(m->dm, &acc));
+  for (PetscInt v = 0; v < nv; v++) {
+    Decide(ncon[v], dir[v], val[v], &fr->normal[2 * v], &fr->mask[v], &fr->value[2 * v]);
+    if (fr->normal[2 * v] != 0 || fr->normal[2 * v + 1] != 0) fr->any = PETSC_TRUE;
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &fr->any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)m->dm)));
+  PetscCall(PetscFree3(ncon, dir, val));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dFramesDestroy(M2dFrames *fr)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree3(fr->normal, fr->mask, fr->value));
+  fr->any = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+PetscBool M2dFramesAt(const M2dFrames *fr, const M2dMesh *m, PetscInt v, PetscReal n[2])
+{
+  if (!fr->any || !fr->normal) return PETSC_FALSE;
+  n[0] = fr->normal[2 * (v - m->vStart)];
+  n[1] = fr->normal[2 * (v - m->vStart) + 1];
+  return (PetscBool)(n[0] != 0 || n[1] != 0);
+}
+
+/* x (2 entries) <- T^T x (forward) or T x (back), T = [n t], t = (-n_y, n_x) */
+static void Rotate(const PetscReal n[2], PetscBool back, PetscScalar x[2])
+{
+  PetscScalar a = x[0], b = x[1];
+  if (back) { /* u = n u~_0 + t u~_1 */
+    x[0] = n[0] * a - n[1] * b;
+    x[1] = n[1] * a + n[0] * b;
+  } else { /* u~_0 = n.u, u~_1 = t.u */
+    x[0] = n[0] * a + n[1] * b;
+    x[1] = -n[1] * a + n[0] * b;
+  }
+}
+
+void M2dFramesRotateElement(const M2dFrames *fr, const M2dMesh *m, const PetscInt verts[4], PetscReal Ke[64])
+{
+  PetscReal n[2];
+  if (!fr->any) return;
+  for (int a = 0; a < 4; a++) {
+    if (!M2dFramesAt(fr, m, verts[a], n)) continue;
+    for (int r = 0; r < 8; r++) { /* columns 2a, 2a+1: Ke Te */
+      PetscScalar x[2] = {Ke[8 * r + 2 * a], Ke[8 * r + 2 * a + 1]};
+      Rotate(n, PETSC_FALSE, x);
+      Ke[8 * r + 2 * a] = PetscRealPart(x[0]), Ke[8 * r + 2 * a + 1] = PetscRealPart(x[1]);
+    }
+    for (int c = 0; c < 8; c++) { /* rows 2a, 2a+1: Te^T (Ke Te) */
+      PetscScalar x[2] = {Ke[8 * (2 * a) + c], Ke[8 * (2 * a + 1) + c]};
+      Rotate(n, PETSC_FALSE, x);
+      Ke[8 * (2 * a) + c] = PetscRealPart(x[0]), Ke[8 * (2 * a + 1) + c] = PetscRealPart(x[1]);
+    }
+  }
+}
+
+PetscErrorCode M2dFramesRotateLocal(const M2dFrames *fr, const M2dMesh *m, Vec xl, PetscBool back)
+{
+  PetscSection lsec;
+  PetscScalar *xa;
+  PetscReal    n[2];
+
+  PetscFunctionBeginUser;
+  if (!fr->any) PetscFunctionReturn(0);
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(VecGetArray(xl, &xa));
+  for (PetscInt v = m->vStart; v < m->vEnd; v++) {
+    PetscInt off;
+    if (!M2dFramesAt(fr, m, v, n)) continue;
+    PetscCall(PetscSectionGetOffset(lsec, v, &off));
+    Rotate(n, back, &xa[off]);
+  }
+  PetscCall(VecRestoreArray(xl, &xa));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dFramesRotateGlobal(const M2dFrames *fr, const M2dMesh *m, Vec x, PetscBool back)
+{
+  PetscSection gsec;
+  PetscScalar *xa;
+  PetscReal    n[2];
+  PetscInt     lo;
+
+  PetscFunctionBeginUser;
+  if (!fr->any) PetscFunctionReturn(0);
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
+  PetscCall(VecGetOwnershipRange(x, &lo, NULL));
+  PetscCall(VecGetArray(x, &xa));
+  for (PetscInt v = m->vStart; v < m->vEnd; v++) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(gsec, v, &off));
+    if (off < 0 || !M2dFramesAt(fr, m, v, n)) continue; /* owned vertices only */
+    Rotate(n, back, &xa[off - lo]);
+  }
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dFramesRotateRows(const M2dFrames *fr, const M2dMesh *m, const M2dContactRows *R, M2dContactRows *Rt)
+{
+  PetscInt           nnz = R->ptr[R->n], *idx;
+  Vec                ng, all;
+  IS                 is;
+  VecScatter         sc;
+  const PetscScalar *na;
+  PetscSection       gsec;
+
+  PetscFunctionBeginUser;
+  Rt->n = R->n;
+  PetscCall(PetscMalloc4(R->n + 1, &Rt->node, R->n + 1, &Rt->ptr, R->n + 1, &Rt->g0, R->n + 1, &Rt->w));
+  PetscCall(PetscMalloc2(nnz + 1, &Rt->col, nnz + 1, &Rt->val));
+  PetscCall(PetscArraycpy(Rt->node, R->node, R->n));
+  PetscCall(PetscArraycpy(Rt->ptr, R->ptr, R->n + 1));
+  PetscCall(PetscArraycpy(Rt->g0, R->g0, R->n));
+  PetscCall(PetscArraycpy(Rt->w, R->w, R->n));
+  PetscCall(PetscArraycpy(Rt->col, R->col, nnz));
+  PetscCall(PetscArraycpy(Rt->val, R->val, nnz));
+  if (!fr->any) PetscFunctionReturn(0);
+  /* every rank needs the normals at the rows' columns (the rows are on every rank) */
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
+  PetscCall(DMGetGlobalVector(m->dm, &ng));
+  {
+    PetscScalar *ga;
+    PetscInt     lo;
+    PetscCall(VecGetOwnershipRange(ng, &lo, NULL));
+    PetscCall(VecGetArray(ng, &ga));
+    for (PetscInt v = m->vStart; v < m->vEnd; v++) {
+      PetscInt off;
+      PetscCall(PetscSectionGetOffset(gsec, v, &off));
+      if (off < 0) continue;
+      ga[off - lo]     = fr->normal[2 * (v - m->vStart)];
+      ga[off - lo + 1] = fr->normal[2 * (v - m->vStart) + 1];
+    }
+    PetscCall(VecRestoreArray(ng, &ga));
+  }
+  PetscCall(PetscMalloc1(nnz + 1, &idx));
+  for (PetscInt k = 0; k < nnz; k++) idx[k] = R->col[k] / 2; /* the column's node (2 dofs per vertex) */
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, 2, nnz, idx, PETSC_OWN_POINTER, &is));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 2 * nnz, &all));
+  PetscCall(VecScatterCreate(ng, is, all, NULL, &sc));
+  PetscCall(VecScatterBegin(sc, ng, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc, ng, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(all, &na));
+  for (PetscInt j = 0; j < R->n; j++) /* rows: C~ = C T, a node's two columns mixed */
+    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
+      PetscReal n[2] = {PetscRealPart(na[2 * k]), PetscRealPart(na[2 * k + 1])}, cx = 0, cy = 0;
+      if (n[0] == 0 && n[1] == 0) continue;
+      for (PetscInt q = R->ptr[j]; q < R->ptr[j + 1]; q++) { /* the node's two coefficients in this row */
+        if (R->col[q] == R->col[k] - R->col[k] % 2) cx = R->val[q];
+        if (R->col[q] == R->col[k] - R->col[k] % 2 + 1) cy = R->val[q];
+      }
+      Rt->val[k] = R->col[k] % 2 == 0 ? n[0] * cx + n[1] * cy : -n[1] * cx + n[0] * cy;
+    }
+  PetscCall(VecRestoreArrayRead(all, &na));
+  PetscCall(VecDestroy(&all));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(ISDestroy(&is));
+  PetscCall(DMRestoreGlobalVector(m->dm, &ng));
+  PetscFunctionReturn(0);
+}
