@@ -43,8 +43,9 @@ PetscErrorCode M2dMumpsCreate(MPI_Comm comm, PetscInt n, PetscBool symmetric, co
  * rows as Schur variables. Collective. */
 PetscErrorCode M2dMumpsAnalyse(M2dMumps *mu, PetscInt64 nnz, M2dMumpsInt irn[], M2dMumpsInt jcn[], PetscScalar a[], M2dMumpsInt perm[], PetscInt nschur);
 /* Numerical factorization. *singular (every rank the same): MUMPS found the
- * matrix numerically singular (INFOG(1) = -10); other failures raise an
- * error. *flops: this rank's factorization flops (RINFO(3)). Collective. */
+ * matrix numerically singular (INFOG(1) = -10; MUMPS 5.5 does not report it
+ * when Schur variables are given); other failures raise an error. *flops:
+ * this rank's factorization flops (RINFO(3)). Collective. */
 PetscErrorCode M2dMumpsFactor(M2dMumps *mu, PetscBool *singular, PetscLogDouble *flops);
 /* The Schur complement (nschur x nschur, column-major, both triangles), once,
  * after M2dMumpsFactor; the caller owns *S (PetscFree). Not collective. */

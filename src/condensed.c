@@ -131,9 +131,9 @@ static PetscErrorCode InterfaceEliminateSeparator(M2dCondensed *cs, const PetscS
   PetscFunctionReturn(0);
 }
 
-/* MUMPS' condensation of [f; 0]: every rank eliminates its interior (kept in
- * f_cond for the expansions), the interface right-hand side g is summed over
- * the ranks, the separator is eliminated, z = L^-1 g_s, and what is left on
+/* MUMPS' condensation of [f; 0]: every rank eliminates its interior, the
+ * interface right-hand side g is summed over the ranks, the separator is
+ * eliminated, z = L^-1 g_s (kept for the expansions), and what is left on
  * the multipliers is g_l - X^T z = -C K_g^-1 f = -w */
 static PetscErrorCode CondenseLoad(M2dCondensed *cs, Vec f)
 {
@@ -149,9 +149,11 @@ static PetscErrorCode CondenseLoad(M2dCondensed *cs, Vec f)
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(f, &fa));
   for (PetscInt i = 0; i < sp->u1 - sp->u0; i++)
-    if (sp->row[i].kind == UNKNOWN_INTERIOR) lf->f_cond[sp->row[i].index] = fa[i];
-  for (PetscInt k = 0; k < lf->nschur; k++) lf->f_cond[nI + k] = 0.0;
-  PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_CONDENSE, lf->f_cond, lf->red));
+    if (sp->row[i].kind == UNKNOWN_INTERIOR) lf->f_local[sp->row[i].index] = fa[i];
+  for (PetscInt k = 0; k < lf->nschur; k++) lf->f_local[nI + k] = 0.0;
+  PetscCall(PetscArraycpy(lf->rhs, lf->f_local, nI + lf->nschur));
+  PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_CONDENSE, lf->rhs, lf->red));
+  lf->condensed = PETSC_TRUE;
   for (PetscInt k = 0; k < G; k++) g[k] = 0.0;
   for (PetscInt k = 0; k < lf->nschur; k++) g[lf->schur_iface[k]] += lf->red[k];
   for (PetscInt i = 0; i < sp->u1 - sp->u0; i++) /* f of the own separator rows (the multipliers' right-hand side is 0) */
@@ -214,7 +216,7 @@ PetscErrorCode CondensedCreate(Mat Kg, Mat C, Mat Ct, Vec f, PetscReal gamma, co
   cs->info.multipliers        = N;
   cs->info.interface_unknowns = cs->split.nsep + N;
 
-  PetscCall(PetscMalloc3(cs->split.ninterior + cs->local.nschur + 1, &cs->local.f_cond, cs->split.ninterior + cs->local.nschur + 1, &cs->local.rhs, cs->local.nschur + 1, &cs->local.red));
+  PetscCall(PetscMalloc3(cs->split.ninterior + cs->local.nschur + 1, &cs->local.f_local, cs->split.ninterior + cs->local.nschur + 1, &cs->local.rhs, cs->local.nschur + 1, &cs->local.red));
   PetscCall(PetscMalloc1(cs->split.nsep + N + 1, &cs->iface.g));
   PetscCall(PetscLogEventBegin(ev[EV_SOLVE], 0, 0, 0, 0));
   PetscCall(CondenseLoad(cs, f));
@@ -346,7 +348,8 @@ PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x)
 }
 
 /* u(nu): the separator from the interface, x_s = L^-T (z - X nu), then every
- * rank's interior by MUMPS' expansion phase from x_s, nu and f_cond */
+ * rank's interior by MUMPS' expansion phase from x_s, nu and the condensed f
+ * (condensed again first when an earlier recovery has consumed it) */
 PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
 {
   const RowSplit    *sp = &cs->split;
@@ -359,6 +362,10 @@ PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev[EV_SOLVE], 0, 0, 0, 0));
+  if (!lf->condensed) {
+    PetscCall(PetscArraycpy(lf->rhs, lf->f_local, nI + lf->nschur));
+    PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_CONDENSE, lf->rhs, lf->red));
+  }
   PetscCall(GatherAll(cs, nu));
   PetscCall(VecGetArrayRead(cs->all, &v));
   if (ns > 0) {
@@ -371,8 +378,8 @@ PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
   for (PetscInt j = 0; j < N; j++) g[ns + j] = v[j];
   PetscCall(VecRestoreArrayRead(cs->all, &v));
   for (PetscInt k = 0; k < lf->nschur; k++) lf->red[k] = g[lf->schur_iface[k]];
-  PetscCall(PetscArraycpy(lf->rhs, lf->f_cond, nI + lf->nschur));
   PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_EXPAND, lf->rhs, lf->red));
+  lf->condensed = PETSC_FALSE;
   PetscCall(VecGetArrayWrite(u, &ua));
   for (PetscInt i = 0; i < sp->u1 - sp->u0; i++) ua[i] = sp->row[i].kind == UNKNOWN_INTERIOR ? lf->rhs[sp->row[i].index] : g[sp->row[i].index];
   PetscCall(VecRestoreArrayWrite(u, &ua));
@@ -395,7 +402,7 @@ PetscErrorCode CondensedDestroy(M2dCondensed **csp)
   if (!cs) PetscFunctionReturn(0);
   PetscCall(M2dMumpsDestroy(&cs->local.mumps));
   PetscCall(PetscFree(cs->local.schur_iface));
-  PetscCall(PetscFree3(cs->local.f_cond, cs->local.rhs, cs->local.red));
+  PetscCall(PetscFree3(cs->local.f_local, cs->local.rhs, cs->local.red));
   PetscCall(PetscFree3(cs->iface.L, cs->iface.X, cs->iface.z));
   PetscCall(PetscFree(cs->iface.S0));
   PetscCall(PetscFree(cs->iface.g));

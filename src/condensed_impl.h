@@ -55,8 +55,10 @@ typedef struct {
   M2dMumps    *mumps;
   PetscInt     nschur;      /* interface unknowns this rank's interior couples to ... */
   PetscInt    *schur_iface; /* ... their interface indices, in MUMPS' order */
-  PetscScalar *f_cond;      /* f after the condensation phase (ninterior + nschur), kept for the expansions */
-  PetscScalar *rhs, *red;   /* work: a right-hand side (ninterior + nschur), a reduced one (nschur) */
+  PetscScalar *f_local;     /* f on the interior rows, 0 on the Schur variables (ninterior + nschur) */
+  PetscScalar *rhs, *red;   /* a right-hand side (ninterior + nschur), a reduced one (nschur) */
+  PetscBool    condensed;   /* rhs holds f condensed and MUMPS the data of that condensation, which
+                               the next expansion consumes (MUMPS: INFOG(1) = -35 without them) */
 } LocalFactor;
 
 /* The dense interface on every rank, the separator eliminated */

@@ -124,6 +124,7 @@ PetscErrorCode M2dMumpsFactor(M2dMumps *mu, PetscBool *singular, PetscLogDouble 
 
   PetscFunctionBeginUser;
   PetscCall(Run(mu, JOB_FACTOR, mu->active, &st, &detail));
+  if (mu->active) PetscCall(PetscInfo(NULL, "MUMPS factorization on this rank: INFOG(1) = %d, null pivots INFOG(28) = %d\n", (int)mu->id.INFOG(1), (int)mu->id.INFOG(28)));
   *singular = (PetscBool)(st == -10);
   *flops    = mu->active ? (PetscLogDouble)mu->id.RINFO(3) : 0.0;
   if (mu->active) { /* the solves need neither the matrix nor the ordering */
