@@ -31,8 +31,8 @@
  *
  * Why not PETSc's MUMPS interface: PETSc 3.18 hands MUMPS no ordering on more
  * than one rank and cannot solve with a Schur complement there, and with a
- * Schur complement MUMPS' own ordering is AMD (about twice the flops of
- * nested dissection). Here -kkt_ordering metis gives every rank's MUMPS a
+ * Schur complement MUMPS' own ordering is AMD (more flops than nested
+ * dissection: README). Here -kkt_ordering metis gives every rank's MUMPS a
  * METIS nested dissection of its interior, the interface last (ordering.h).
  * Why one MUMPS per rank and not one on all ranks: Debian's MUMPS analyses
  * sequentially (no PT-Scotch/ParMETIS inside) and gathers the matrix on one
@@ -82,6 +82,6 @@ PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x);
 PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u);
 /* What the factorization cost and how big the interface is. Not collective. */
 PetscErrorCode CondensedGetInfo(const M2dCondensed *cs, M2dCondensedInfo *info);
-/* Frees everything, *cs = NULL. Not collective beyond MPI_Comm_free. */
+/* Frees everything (the references to Kg, C, Ct too); *cs = NULL. Collective. */
 PetscErrorCode CondensedDestroy(M2dCondensed **cs);
 #endif

@@ -102,16 +102,12 @@ PetscErrorCode RowReaderDestroy(RowReader *rr)
   PetscFunctionReturn(0);
 }
 
-/* a column of K_g (a u row of M) */
-static PetscErrorCode ClassifyU(const RowSplit *sp, PetscInt j, Unknown *x)
+/* a column of K_g that is another rank's u row: its separator row, or foreign */
+static PetscErrorCode ClassifyOther(const RowSplit *sp, PetscInt j, Unknown *x)
 {
   PetscInt s;
 
   PetscFunctionBeginUser;
-  if (j >= sp->u0 && j < sp->u1) {
-    *x = sp->row[j - sp->u0];
-    PetscFunctionReturn(0);
-  }
   PetscCall(PetscFindInt(j, sp->nsep, sp->sep_rows, &s));
   x->kind  = s >= 0 ? UNKNOWN_SEPARATOR : UNKNOWN_FOREIGN;
   x->index = s >= 0 ? s : j;
@@ -121,6 +117,7 @@ static PetscErrorCode ClassifyU(const RowSplit *sp, PetscInt j, Unknown *x)
 /* append one row of block A (its columns are u rows, or multipliers) */
 static PetscErrorCode AppendRow(RowReader *rr, Mat A, PetscInt row, PetscBool multiplier_cols)
 {
+  const RowSplit    *sp = rr->split;
   PetscInt           m;
   const PetscInt    *c;
   const PetscScalar *v;
@@ -139,10 +136,12 @@ static PetscErrorCode AppendRow(RowReader *rr, Mat A, PetscInt row, PetscBool mu
     rr->val = val;
   }
   for (PetscInt k = 0; k < m; k++, rr->n++) {
+    Unknown *x = &rr->col[rr->n];
     if (multiplier_cols) {
-      rr->col[rr->n].kind  = UNKNOWN_MULTIPLIER;
-      rr->col[rr->n].index = c[k];
-    } else PetscCall(ClassifyU(rr->split, c[k], &rr->col[rr->n]));
+      x->kind  = UNKNOWN_MULTIPLIER;
+      x->index = c[k];
+    } else if (c[k] >= sp->u0 && c[k] < sp->u1) *x = sp->row[c[k] - sp->u0];
+    else PetscCall(ClassifyOther(sp, c[k], x));
     rr->val[rr->n] = v[k];
   }
   PetscCall(MatRestoreRow(A, row, &m, &c, &v));
