@@ -1,182 +1,33 @@
 /* Unit tests of the condensed path (condensed.c, condensed_rows.c, mumps.c)
- * and of kkt.c, on any number of ranks (ctest: 1, 2 and 3).
+ * on any number of ranks (ctest: 1, 2 and 3).
  *
- * The system: a grid of nx x ny nodes, two dofs per node, K = L (x) B with L
- * the 5-point Laplacian plus a small shift and B = [2 1/2; 1/2 1] (both SPD,
- * so K is), distributed by rows (grid lines: on several ranks the separator
- * is the grid line below the next rank's); C: NC rows like mortar rows, each
- * tying a node of the left side to nodes of the right side (far apart in the
- * numbering, as a contact pair is); K_g = K + g C^T C; f varies along the rows.
- * Against a dense computation (LAPACK Cholesky of the gathered K_g):
+ * The system (unit_grid.h): a grid of NX x NY nodes, two dofs per node,
+ * K = L (x) B with L the 5-point Laplacian plus a small shift and
+ * B = [2 1/2; 1/2 1] (both SPD, so K is), distributed by rows (on several
+ * ranks the separator is the grid line below the next rank's); C: NC rows
+ * like mortar rows, each tying a node of the left side to nodes of the right
+ * side (far apart in the numbering, as a contact pair is); K_g = K + g C^T C;
+ * f varies along the rows. Against a dense computation (LAPACK Cholesky of
+ * the gathered K_g):
  *  - w = C K_g^-1 f (CondensedGaps at nu = 0) and every column of
  *    S0 = -C K_g^-1 C^T (CondensedGaps at nu = e_j, minus w), to 1e-10;
  *  - u(nu) = K_g^-1 (f - C^T nu) (CondensedRecover), to 1e-10, and a second
- *    recovery gives the same u (the condensed f is kept, not consumed);
+ *    recovery gives the same u;
  *  - the Jacobian rows c h S0 (active) and -h (I + g S0) (inactive), and
  *    J x = b after CondensedJacobianFactor/Solve;
  * for LDL^T and LU, the METIS ordering and MUMPS' own. Then
- *  - a K_g with a zero row (a node held by nothing), in a rank's interior and
- *    (on several ranks) in the separator: every rank raises the same
- *    "singular" error, no hang, and CondensedDestroy frees what was built;
- *  - create/destroy leaves no PETSc memory behind (-malloc_debug);
- *  - kkt.c: KKTCreate zeroes the Dirichlet columns of C and moves their part
- *    to r (r = g0 + B u_D); KKTSetActive makes an inactive row of A
- *    -(scale/c) e_j and an active one scale C_j. */
+ *  - a separator node held by nothing (zero rows and columns, several ranks):
+ *    every rank raises the same "singular" error, no hang, and
+ *    CondensedDestroy frees what was built;
+ *  - create/recover/destroy leaves no PETSc memory behind (-malloc_debug);
+ *  - the MUMPS wrapper alone: the Schur complement, condensation and
+ *    expansion of a 5 x 5 matrix per rank against LAPACK; a bad pivot order
+ *    on one rank raises the same error on every rank (a rank without rows
+ *    joins the agreement). */
 #include "condensed.h"
 #include "util.h"
+#include "unit_grid.h"
 #include <petscblaslapack.h>
-#include <stdarg.h>
-
-#define NX 12
-#define NY 14
-#define NC 6
-
-static int failures;
-
-/* one line on rank 0; fails if cond is false on any rank */
-static void Check(MPI_Comm comm, int cond, const char *fmt, ...)
-{
-  int         all;
-  PetscMPIInt rank;
-  va_list     ap;
-
-  MPI_Allreduce(&cond, &all, 1, MPI_INT, MPI_MIN, comm);
-  MPI_Comm_rank(comm, &rank);
-  if (!all) failures++;
-  if (rank) return;
-  printf(all ? "ok   " : "FAIL ");
-  va_start(ap, fmt);
-  vprintf(fmt, ap);
-  va_end(ap);
-  printf("\n");
-  fflush(stdout);
-}
-
-static PetscInt Dof(PetscInt i, PetscInt j, PetscInt c)
-{
-  return 2 * (j * NX + i) + c;
-}
-
-/* K = L (x) B, preallocated with room for extra entries (the pattern of C^T C) */
-static PetscErrorCode BuildK(MPI_Comm comm, Mat *K)
-{
-  const PetscScalar B[2][2] = {{2.0, 0.5}, {0.5, 1.0}};
-  PetscInt          lo, hi;
-
-  PetscFunctionBeginUser;
-  PetscCall(MatCreateAIJ(comm, PETSC_DECIDE, PETSC_DECIDE, 2 * NX * NY, 2 * NX * NY, 20, NULL, 20, NULL, K));
-  PetscCall(MatSetOption(*K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  PetscCall(MatGetOwnershipRange(*K, &lo, &hi));
-  for (PetscInt r = lo; r < hi; r++) {
-    PetscInt n = r / 2, c = r % 2, i = n % NX, j = n / NX;
-    PetscInt nb[5][3] = {{i, j, 1}, {i - 1, j, 0}, {i + 1, j, 0}, {i, j - 1, 0}, {i, j + 1, 0}};
-    for (int k = 0; k < 5; k++) {
-      PetscScalar l = nb[k][2] ? 4.1 : -1.0;
-      if (nb[k][0] < 0 || nb[k][0] >= NX || nb[k][1] < 0 || nb[k][1] >= NY) continue;
-      for (PetscInt d = 0; d < 2; d++) PetscCall(MatSetValue(*K, r, Dof(nb[k][0], nb[k][1], d), l * B[c][d], INSERT_VALUES));
-    }
-  }
-  PetscCall(MatAssemblyBegin(*K, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(*K, MAT_FINAL_ASSEMBLY));
-  PetscFunctionReturn(0);
-}
-
-/* rows of B (C = -B in kkt.c): row k ties the y dof of left node (0, j_k)
- * (weights 2/3, 1/6 on it and the node above) to right nodes (NX-1, j_k),
- * (NX-1, j_k + 1) (weights -1/2, -1/3) */
-static void RowsB(PetscInt ptr[], PetscInt col[], PetscReal val[], PetscReal g0[])
-{
-  for (PetscInt k = 0; k < NC; k++) {
-    PetscInt  j      = 2 * k + 1;
-    PetscInt  c[4]   = {Dof(0, j, 1), Dof(0, j + 1, 1), Dof(NX - 1, j, 1), Dof(NX - 1, j + 1, 1)};
-    PetscReal v[4]   = {2.0 / 3, 1.0 / 6, -0.5, -1.0 / 3};
-    ptr[k]           = 4 * k;
-    for (int e = 0; e < 4; e++) {
-      col[4 * k + e] = c[e];
-      val[4 * k + e] = v[e];
-    }
-    g0[k] = 0.01 * (k + 1);
-  }
-  ptr[NC] = 4 * NC;
-}
-
-static PetscErrorCode BuildC(MPI_Comm comm, Mat K, Mat *C)
-{
-  PetscInt  ptr[NC + 1], col[4 * NC], lo, hi, nu;
-  PetscReal val[4 * NC], g0[NC];
-
-  PetscFunctionBeginUser;
-  RowsB(ptr, col, val, g0);
-  PetscCall(MatGetLocalSize(K, &nu, NULL));
-  PetscCall(MatCreateAIJ(comm, PETSC_DECIDE, nu, NC, 2 * NX * NY, 4, NULL, 4, NULL, C));
-  PetscCall(MatGetOwnershipRange(*C, &lo, &hi));
-  for (PetscInt k = lo; k < hi; k++) {
-    PetscScalar v[4];
-    for (int e = 0; e < 4; e++) v[e] = -val[ptr[k] + e];
-    PetscCall(MatSetValues(*C, 1, &k, 4, &col[ptr[k]], v, INSERT_VALUES));
-  }
-  PetscCall(MatAssemblyBegin(*C, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(*C, MAT_FINAL_ASSEMBLY));
-  PetscFunctionReturn(0);
-}
-
-/* the whole matrix on every rank, dense, column-major (m x n) */
-static PetscErrorCode GatherDense(Mat A, PetscScalar **D)
-{
-  PetscInt m, n;
-  IS       rows, cols;
-  Mat     *sub;
-
-  PetscFunctionBeginUser;
-  PetscCall(MatGetSize(A, &m, &n));
-  PetscCall(ISCreateStride(PETSC_COMM_SELF, m, 0, 1, &rows));
-  PetscCall(ISCreateStride(PETSC_COMM_SELF, n, 0, 1, &cols));
-  PetscCall(MatCreateSubMatrices(A, 1, &rows, &cols, MAT_INITIAL_MATRIX, &sub));
-  PetscCall(PetscCalloc1(m * n, D));
-  for (PetscInt i = 0; i < m; i++) {
-    PetscInt           nc;
-    const PetscInt    *c;
-    const PetscScalar *v;
-    PetscCall(MatGetRow(sub[0], i, &nc, &c, &v));
-    for (PetscInt k = 0; k < nc; k++) (*D)[i + c[k] * m] = v[k];
-    PetscCall(MatRestoreRow(sub[0], i, &nc, &c, &v));
-  }
-  PetscCall(MatDestroySubMatrices(1, &sub));
-  PetscCall(ISDestroy(&rows));
-  PetscCall(ISDestroy(&cols));
-  PetscFunctionReturn(0);
-}
-
-/* the whole vector on every rank */
-static PetscErrorCode GatherVec(Vec v, PetscScalar out[])
-{
-  Vec                all;
-  VecScatter         sc;
-  const PetscScalar *a;
-  PetscInt           n;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecScatterCreateToAll(v, &sc, &all));
-  PetscCall(VecScatterBegin(sc, v, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, v, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGetSize(all, &n));
-  PetscCall(VecGetArrayRead(all, &a));
-  PetscCall(PetscArraycpy(out, a, n));
-  PetscCall(VecRestoreArrayRead(all, &a));
-  PetscCall(VecDestroy(&all));
-  PetscCall(VecScatterDestroy(&sc));
-  PetscFunctionReturn(0);
-}
-
-static PetscReal RelDiff(PetscInt n, const PetscScalar a[], const PetscScalar b[])
-{
-  PetscReal d = 0, m = 0;
-  for (PetscInt i = 0; i < n; i++) {
-    d = PetscMax(d, PetscAbsScalar(a[i] - b[i]));
-    m = PetscMax(m, PetscAbsScalar(b[i]));
-  }
-  return m > 0 ? d / m : d;
-}
 
 /* the test system: K_g = K + g C^T C, C, C^T, f */
 typedef struct {
@@ -550,100 +401,6 @@ static PetscErrorCode CheckMumpsAgreement(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* kkt.c: KKTCreate moves the Dirichlet columns of C to r; KKTSetActive sets
- * the multiplier rows of the monolithic A */
-static PetscErrorCode CheckKKT(MPI_Comm comm)
-{
-  M2dScene       s;
-  M2dContactRows R;
-  M2dKKT         kkt;
-  Mat            K;
-  Vec            f, ubc, act;
-  PetscInt       ptr[NC + 1], col[4 * NC], drows[3], dall[3] = {Dof(0, 2, 1), Dof(NX - 1, 2, 1), Dof(0, 2, 0)}, nd = 0, lo, hi, N = 2 * NX * NY, NA;
-  PetscReal      val[4 * NC], g0[NC], uval[3] = {0.3, -0.2, 0.5}, c = 2.0, scale = 3.0;
-  PetscScalar    r[NC], *Cd, *Ad, *ub;
-  IS             isu, isl;
-  const PetscInt *iu, *il;
-  PetscBool      ok = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(&s, sizeof(s)));
-  s.kkt_mat    = M2D_KKT_AIJ;
-  s.unilateral = PETSC_TRUE;
-  RowsB(ptr, col, val, g0);
-  R.n   = NC;
-  R.ptr = ptr;
-  R.col = col;
-  R.val = val;
-  R.g0  = g0;
-  PetscCall(BuildK(comm, &K));
-  PetscCall(MatCreateVecs(K, &ubc, &f));
-  PetscCall(VecSet(f, 1.0));
-  PetscCall(VecGetOwnershipRange(ubc, &lo, &hi));
-  for (int k = 0; k < 3; k++)
-    if (dall[k] >= lo && dall[k] < hi) {
-      drows[nd++] = dall[k];
-      PetscCall(VecSetValue(ubc, dall[k], uval[k], INSERT_VALUES));
-    }
-  PetscCall(VecAssemblyBegin(ubc));
-  PetscCall(VecAssemblyEnd(ubc));
-  PetscCall(KKTCreate(&s, &R, K, f, ubc, nd, drows, &kkt));
-
-  /* C = -B without the Dirichlet columns; r = g0 - C_full u_D = g0 + B u_D */
-  PetscCall(GatherDense(kkt.C, &Cd));
-  PetscCall(PetscCalloc1(N, &ub));
-  for (int k = 0; k < 3; k++) ub[dall[k]] = uval[k];
-  for (PetscInt k = 0; k < NC; k++) {
-    PetscScalar rk = g0[k];
-    for (PetscInt e = ptr[k]; e < ptr[k + 1]; e++) {
-      PetscBool dir = (PetscBool)(ub[col[e]] != 0);
-      rk += val[e] * ub[col[e]];
-      ok = (PetscBool)(ok && Cd[k + col[e] * NC] == (dir ? 0.0 : -val[e]));
-    }
-    r[k] = rk;
-  }
-  Check(comm, ok, "KKTCreate: C = -B, its Dirichlet columns zero");
-  {
-    PetscScalar rr[NC];
-    PetscCall(GatherVec(kkt.r, rr));
-    Check(comm, RelDiff(NC, rr, r) < 1e-14 && r[0] != g0[0], "KKTCreate: r = g0 + B u_D (%.1e)", (double)RelDiff(NC, rr, r));
-  }
-
-  /* inactive rows (even k): -(scale/c) e_k; active: scale C_k, zero diagonal */
-  PetscCall(MatCreateVecs(kkt.Ct, &act, NULL));
-  PetscCall(VecGetOwnershipRange(act, &lo, &hi));
-  for (PetscInt k = lo; k < hi; k++) PetscCall(VecSetValue(act, k, (PetscScalar)(k % 2), INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(act));
-  PetscCall(VecAssemblyEnd(act));
-  PetscCall(KKTSetActive(&kkt, act, c, scale));
-  PetscCall(MatGetSize(kkt.A, &NA, NULL));
-  PetscCall(GatherDense(kkt.A, &Ad));
-  PetscCall(ISAllGather(kkt.isu, &isu));
-  PetscCall(ISAllGather(kkt.isl, &isl));
-  PetscCall(ISGetIndices(isu, &iu));
-  PetscCall(ISGetIndices(isl, &il));
-  ok = PETSC_TRUE;
-  for (PetscInt k = 0; k < NC; k++) {
-    PetscInt row = il[k];
-    for (PetscInt i = 0; i < N; i++) ok = (PetscBool)(ok && Ad[row + iu[i] * NA] == (k % 2 ? scale * Cd[k + i * NC] : 0.0));
-    for (PetscInt m = 0; m < NC; m++) ok = (PetscBool)(ok && Ad[row + il[m] * NA] == (k % 2 || m != k ? 0.0 : -scale / c));
-  }
-  Check(comm, ok, "KKTSetActive: active rows scale C_j, inactive rows -(scale/c) e_j");
-  PetscCall(ISRestoreIndices(isu, &iu));
-  PetscCall(ISRestoreIndices(isl, &il));
-  PetscCall(ISDestroy(&isu));
-  PetscCall(ISDestroy(&isl));
-  PetscCall(PetscFree(Ad));
-  PetscCall(PetscFree(Cd));
-  PetscCall(PetscFree(ub));
-  PetscCall(VecDestroy(&act));
-  PetscCall(KKTDestroy(&kkt));
-  PetscCall(MatDestroy(&K));
-  PetscCall(VecDestroy(&f));
-  PetscCall(VecDestroy(&ubc));
-  PetscFunctionReturn(0);
-}
-
 int main(int argc, char **argv)
 {
   MPI_Comm            comm;
@@ -675,7 +432,6 @@ int main(int argc, char **argv)
   PetscCall(CheckMumpsWrapper(comm, PETSC_TRUE));
   PetscCall(CheckMumpsWrapper(comm, PETSC_FALSE));
   PetscCall(CheckMumpsAgreement(comm));
-  PetscCall(CheckKKT(comm));
   PetscCall(DenseDestroy(&d));
   PetscCall(SystemDestroy(&sy));
   PetscCallMPI(MPI_Allreduce(&failures, &any, 1, MPI_INT, MPI_MAX, comm));

@@ -12,29 +12,9 @@
  *    and with the user's -mat_mumps_icntl_7 when given; PCLU on one rank
  *    gets the METIS ordering (ICNTL(7) = INFOG(7) = 1, a given pivot order). */
 #include "ordering.h"
-#include <stdarg.h>
+#include "unit_grid.h"
 
 #define NG 20
-
-static int failures;
-
-static void Check(MPI_Comm comm, int cond, const char *fmt, ...)
-{
-  int         all;
-  PetscMPIInt rank;
-  va_list     ap;
-
-  MPI_Allreduce(&cond, &all, 1, MPI_INT, MPI_MIN, comm);
-  MPI_Comm_rank(comm, &rank);
-  if (!all) failures++;
-  if (rank) return;
-  printf(all ? "ok   " : "FAIL ");
-  va_start(ap, fmt);
-  vprintf(fmt, ap);
-  va_end(ap);
-  printf("\n");
-  fflush(stdout);
-}
 
 /* the vector Laplacian L (x) [2 1/2; 1/2 1] of the grid: 2 NG^2 rows (node-major) */
 static PetscErrorCode GridMatrix(MPI_Comm comm, PetscInt nlocal, Mat *A)
