@@ -1,23 +1,23 @@
-/* condensed.h - the fast path: one sparse factorization, then the active-set
- * steps run on the multipliers alone (1 or more ranks).
+/* condensed.h - the condensed path: one sparse factorization, then the
+ * active-set steps run on the multipliers alone (1 or more ranks).
  *
  * M = [K_g C^T; C 0] with K_g = K + g C^T C over every candidate row (K_g is
  * invertible whenever tying every candidate node would hold the bodies, which
  * covers bodies held only by contact) is factored ONCE, and its Schur
  * complement on the multipliers, S0 = -C K_g^-1 C^T (dense, n_lambda^2), is
- * formed. M is read from the nest's blocks (kkt.h): no monolithic copy.
+ * formed. M is read from its blocks K_g, C^T and C: no monolithic copy.
  *
  * The rows are split as the ranks own them: on several ranks the u rows of
  * each rank coupled to a u row of a higher rank form the separator; the
  * interface is the separator and the multipliers; every other row is
  * interior to its rank and couples only to its own interior and to the
  * interface. Every rank factors its interior with its own sequential MUMPS
- * (dmumps_c on one rank: analysis, factorization and solves run on all
- * ranks at once, nothing is gathered) and a Schur complement on the
- * interface unknowns its interior couples to. The interface matrix (the
- * sum of those, plus its own entries) is dense and on every rank; the
- * separator is eliminated by Cholesky (it is a Schur complement of K_g),
- * which leaves S0. On one rank the interface is the multipliers alone.
+ * (m2dmumps.h: analysis, factorization and solves run on all ranks at once,
+ * nothing is gathered) and a Schur complement on the interface unknowns its
+ * interior couples to. The interface matrix (the sum of those, plus its own
+ * entries) is dense and on every rank; the separator is eliminated by
+ * Cholesky (it is a Schur complement of K_g), which leaves S0. On one rank
+ * the interface is the multipliers alone.
  *
  * With nu = lambda - g C u, u(nu) = K_g^-1 (f - C^T nu) satisfies
  * K u + C^T lambda = f for every nu, and C u(nu) = w + S0 nu with
@@ -25,59 +25,63 @@
  * n_lambda algebra: the semismooth Newton iteration (activeset.c) takes its
  * steps on nu, each a dense LU of size n_lambda (every rank holds it), and
  * visits the same active sets as the full path (the problem is linear in u).
- * MUMPS' condensation phase (forward elimination, ICNTL(26) = 1) gives w
- * (CondensedReducedSetup), its expansion phase (backward, ICNTL(26) = 2) u
- * at the end (CondensedRecover): one solve's work in all.
+ * MUMPS' condensation phase (forward elimination) of f gives w at creation,
+ * its expansion phase (backward substitution) u(nu) (CondensedRecover): one
+ * solve's work in all.
  *
  * Why not PETSc's MUMPS interface: PETSc 3.18 hands MUMPS no ordering on more
  * than one rank and cannot solve with a Schur complement there, and with a
- * Schur complement MUMPS' own ordering is AMD (2x the flops of nested
- * dissection). Here -kkt_ordering metis gives every rank's MUMPS a METIS
- * nested dissection of its interior, the interface last (PERM_IN). Why not
- * one MUMPS on all ranks (as before): its analysis is sequential in
- * Debian's build (no PT-Scotch/ParMETIS in MUMPS) and gathers the matrix,
- * level 6: 5.4 s of analysis and 1.7 s of redistribution on 2 ranks against
- * 1.9 s of analysis here. */
+ * Schur complement MUMPS' own ordering is AMD (more flops than nested
+ * dissection: README). Here -kkt_ordering metis gives every rank's MUMPS a
+ * METIS nested dissection of its interior, the interface last (ordering.h).
+ * Why one MUMPS per rank and not one on all ranks: Debian's MUMPS analyses
+ * sequentially (no PT-Scotch/ParMETIS inside) and gathers the matrix on one
+ * rank (README: the measurements). */
 #ifndef M2D_CONDENSED_H
 #define M2D_CONDENSED_H
 #include "kkt.h"
+#include "m2dmumps.h"
 #include "ordering.h"
 
-typedef struct M2dMumps M2dMumps;
+typedef struct M2dCondensed M2dCondensed;
 
 typedef struct {
-  M2dKKT         *kkt;
-  M2dMumps    *mumps;      /* this rank's own sequential MUMPS, or NULL (no interior rows) */
-  PetscInt     n, N, lo;   /* multipliers: local, global, first owned (layout of kkt->r) */
-  PetscInt     ns;         /* separator rows (all ranks); the interface has ns + N unknowns */
-  PetscInt     nI, ng;     /* this rank: interior rows, interface unknowns its interior couples to */
-  PetscInt    *lidx;       /* own u rows, then own multiplier rows: interior index, or -1 - interface index */
-  PetscInt    *glist;      /* interface index of each of this rank's ng interface unknowns */
-  PetscScalar *L, *X;      /* L L^T = S_ss (ns x ns), X = L^-1 S_sl (ns x N), every rank */
-  PetscScalar *b, *red, *g; /* this rank's MUMPS right-hand side (nI + ng) and reduced one (ng); interface vector (ns + N) */
-  PetscScalar *S;          /* rows lo..lo+n-1 of S0, column-major, n x N */
-  PetscScalar *lu;         /* the reduced Jacobian's LU (N x N, every rank) */
-  PetscBLASInt *piv;
-  Vec          all;        /* a multiplier vector, whole, on every rank */
-  VecScatter   toall;
-  Vec          w;          /* w = C K_g^-1 f */
-  PetscLogDouble factor_time;
-  PetscLogDouble flops_sum, flops_max; /* MUMPS factorization flops (RINFO(3)) over the ranks: sum, largest share */
-} M2dCondensed;
+  PetscBool       ldlt;     /* LDL^T of the symmetric M (MUMPS SYM = 2), else LU */
+  M2dOrdering     ordering; /* METIS nested dissection of each rank's interior, or MUMPS' own */
+  M2dMumpsOptions mumps;
+} M2dCondensedOptions;
 
-/* kkt must have been created with augmentation (kkt->gamma > 0) and aij */
-PetscErrorCode CondensedCreate(M2dKKT *kkt, const M2dScene *s, M2dCondensed *cs);
-/* w from MUMPS' condensation phase */
-PetscErrorCode CondensedReducedSetup(M2dCondensed *cs);
-/* cu = C u(nu) = w + S0 nu (layout of kkt->r) */
-PetscErrorCode CondensedReducedGaps(M2dCondensed *cs, Vec nu, Vec cu);
-/* J = d/dnu of F = c h max(-lambda/c, C u - r): rows c h S0 (active) and
- * -h (I + g S0) (inactive); J dense (MATDENSE), layout of kkt->r */
-PetscErrorCode CondensedReducedJacobian(M2dCondensed *cs, Vec active, PetscReal c, PetscReal h, Mat J);
-/* LU of the dense J on every rank; then x = J^-1 b (layout of kkt->r) */
-PetscErrorCode CondensedDenseFactor(M2dCondensed *cs, Mat J);
-PetscErrorCode CondensedDenseSolve(M2dCondensed *cs, Vec b, Vec x);
-/* u = u(nu), MUMPS' expansion phase */
+typedef struct {
+  PetscLogDouble factor_time;        /* seconds: ordering, factorizations, dense interface */
+  PetscLogDouble flops_sum;          /* MUMPS factorization flops (RINFO(3)), all ranks */
+  PetscLogDouble flops_max;          /* the largest rank's share */
+  PetscInt       separator_rows;     /* all ranks (0 on one rank) */
+  PetscInt       multipliers;        /* n_lambda */
+  PetscInt       interface_unknowns; /* separator rows + multipliers */
+} M2dCondensedInfo;
+
+/* Factor M = [Kg C^T; C 0] and condense f (w = C Kg^-1 f). Kg (u x u), C
+ * (multipliers x u) and Ct = C^T are AIJ with matching layouts, f has Kg's
+ * row layout; gamma is the g of Kg = K + g C^T C. Collective on Kg's
+ * communicator; keeps references to Kg, C, Ct; free *cs with CondensedDestroy. */
+PetscErrorCode CondensedCreate(Mat Kg, Mat C, Mat Ct, Vec f, PetscReal gamma, const M2dCondensedOptions *opt, M2dCondensed **cs);
+/* The same for the augmented KKT system (kkt->gamma > 0) with the scene's
+ * solver options (-kkt_ldlt, -kkt_ordering, -mat_mumps_icntl_*). Collective. */
+PetscErrorCode CondensedCreateFromKKT(const M2dKKT *kkt, const M2dScene *s, M2dCondensed **cs);
+/* cu = C u(nu) = w + S0 nu (nu, cu: layout of C's rows; nu = 0 gives w). Collective. */
+PetscErrorCode CondensedGaps(M2dCondensed *cs, Vec nu, Vec cu);
+/* J = d/dnu of F = c h max(-lambda/c, C u - r): rows c h S0 (active != 0) and
+ * -h (I + g S0) (inactive); J dense (MATDENSE), layout of C's rows. Collective. */
+PetscErrorCode CondensedJacobian(M2dCondensed *cs, Vec active, PetscReal c, PetscReal h, Mat J);
+/* LU of the dense J (from CondensedJacobian) on every rank; then x = J^-1 b
+ * (layout of C's rows). Collective. */
+PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J);
+PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x);
+/* u = u(nu) = Kg^-1 (f - C^T nu) by MUMPS' expansion phase (any number of
+ * times; u: layout of Kg's rows). Collective. */
 PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u);
-PetscErrorCode CondensedDestroy(M2dCondensed *cs);
+/* What the factorization cost and how big the interface is. Not collective. */
+PetscErrorCode CondensedGetInfo(const M2dCondensed *cs, M2dCondensedInfo *info);
+/* Frees everything (the references to Kg, C, Ct too); *cs = NULL. Collective. */
+PetscErrorCode CondensedDestroy(M2dCondensed **cs);
 #endif

@@ -10,8 +10,9 @@
  *
  * The IS holds, for each row i, its position in the pivot order: MUMPS'
  * PERM_IN(i) - 1, which is what PETSc 3.18 forwards (perm_in[i] = idx[i] + 1).
- * Through PETSc's MUMPS interface (full path, reference) one rank only: in
- * parallel PETSc 3.18 hands MUMPS a distributed matrix and no permutation.
+ * Through PETSc's MUMPS interface (full path, reference) LU on one rank only:
+ * in parallel PETSc 3.18 hands MUMPS a distributed matrix and no permutation,
+ * and for a Cholesky factor none at all; those get MUMPS' AMF.
  * The condensed path calls MUMPS itself and orders on any number of ranks
  * (condensed.h), each rank its own rows with M2dOrderingMetis. */
 #ifndef M2D_ORDERING_H
@@ -21,11 +22,15 @@
 typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS } M2dOrdering;
 #define MATORDERINGM2DMETIS "m2d_metis"
 
-/* pivot positions of the rows of the sequential AIJ matrix A; the rows in
- * `last` (may be NULL) come last, in the order of `last` */
+/* Pivot positions of the rows of the sequential AIJ matrix A (a permutation,
+ * as an IS the caller destroys); the rows in `last` (may be NULL) come last,
+ * in the order of `last`. Not collective. */
 PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos);
-/* on one rank with PCLU + MUMPS and ord == METIS: the PC's factorization gets
- * the METIS ordering (registered as the MatOrdering "m2d_metis"; *applied set,
- * may be NULL); else nothing */
-PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *applied);
+/* The ordering of a KSP's MUMPS factorization (PCLU or PCCHOLESKY with
+ * MATSOLVERMUMPS; call after KSPSetFromOptions): LU on one rank with
+ * ord == METIS gets the METIS ordering (the MatOrdering "m2d_metis"; *metis
+ * set, may be NULL); otherwise, once the operators are set, MUMPS orders with
+ * AMF (ICNTL(7) = 2) unless -mat_mumps_icntl_7 is given. Other PCs: nothing.
+ * Collective on the KSP's communicator. */
+PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *metis);
 #endif

@@ -216,7 +216,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
   (void)P;
   if (as->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
   PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
-  if (as->cond) PetscCall(CondensedReducedJacobian(as->cond, as->active, as->c, as->h, J));
+  if (as->cond) PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, J));
   else PetscCall(KKTSetActive(as->kkt, as->active, as->c, as->c * as->h));
   PetscFunctionReturn(0);
 }
@@ -233,7 +233,7 @@ static PetscErrorCode CondensedFunction(SNES snes, Vec nu, Vec F, void *ctx)
 
   PetscFunctionBeginUser;
   (void)snes;
-  PetscCall(CondensedReducedGaps(as->cond, nu, as->cu));
+  PetscCall(CondensedGaps(as->cond, nu, as->cu));
   PetscCall(VecGetLocalSize(nu, &n));
   PetscCall(VecGetArrayRead(nu, &v));
   PetscCall(VecGetArrayRead(as->cu, &cu));
@@ -260,9 +260,9 @@ static PetscErrorCode CondensedFunction(SNES snes, Vec nu, Vec F, void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* Condensed path: w, then the first step as the full path takes it - the set
- * of (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of
- * that set's linear piece at nu = 0. The SNES starts from nu0. */
+/* Condensed path: the first step as the full path takes it - the set of
+ * (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
+ * set's linear piece at nu = 0, where C u(0) = w. The SNES starts from nu0. */
 static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *nu, Mat *J)
 {
   M2dKKT            *kkt = as->kkt;
@@ -272,9 +272,10 @@ static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *n
   PetscScalar       *f;
 
   PetscFunctionBeginUser;
-  PetscCall(CondensedReducedSetup(as->cond));
   PetscCall(VecDuplicate(kkt->r, &as->cu));
   PetscCall(VecDuplicate(kkt->r, nu));
+  PetscCall(VecZeroEntries(*nu));
+  PetscCall(CondensedGaps(as->cond, *nu, as->cu)); /* w = C u(0) */
   PetscCall(VecDuplicate(kkt->r, &F0));
   PetscCall(VecGetLocalSize(kkt->r, &n));
   PetscCall(VecGetSize(kkt->r, &N));
@@ -286,8 +287,8 @@ static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *n
   PetscCall(VecNorm(F, NORM_2, &as->fnorm0));
   PetscCall(VecDestroy(&F));
   PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
-  PetscCall(CondensedReducedJacobian(as->cond, as->active, as->c, as->h, *J));
-  PetscCall(VecGetArrayRead(as->cond->w, &w));
+  PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, *J));
+  PetscCall(VecGetArrayRead(as->cu, &w));
   PetscCall(VecGetArrayRead(kkt->r, &r));
   PetscCall(VecGetArrayRead(as->active, &a));
   PetscCall(VecGetArray(F0, &f));
@@ -295,9 +296,9 @@ static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *n
   PetscCall(VecRestoreArray(F0, &f));
   PetscCall(VecRestoreArrayRead(as->active, &a));
   PetscCall(VecRestoreArrayRead(kkt->r, &r));
-  PetscCall(VecRestoreArrayRead(as->cond->w, &w));
-  PetscCall(CondensedDenseFactor(as->cond, *J));
-  PetscCall(CondensedDenseSolve(as->cond, F0, *nu));
+  PetscCall(VecRestoreArrayRead(as->cu, &w));
+  PetscCall(CondensedJacobianFactor(as->cond, *J));
+  PetscCall(CondensedJacobianSolve(as->cond, F0, *nu));
   PetscCall(VecDestroy(&F0));
   PetscCall(VecDuplicate(kkt->r, &F));
   PetscCall(SNESSetFunction(snes, F, CondensedFunction, as));
@@ -314,7 +315,7 @@ static PetscErrorCode DensePCSetUp(PC pc)
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &cs));
   PetscCall(PCGetOperators(pc, NULL, &P));
-  PetscCall(CondensedDenseFactor(cs, P));
+  PetscCall(CondensedJacobianFactor(cs, P));
   PetscFunctionReturn(0);
 }
 
@@ -324,7 +325,7 @@ static PetscErrorCode DensePCApply(PC pc, Vec b, Vec y)
 
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(CondensedDenseSolve(cs, b, y));
+  PetscCall(CondensedJacobianSolve(cs, b, y));
   PetscFunctionReturn(0);
 }
 
@@ -432,10 +433,7 @@ static PetscErrorCode ContextDestroy(M2dActiveSet *as)
   PetscCall(VecDestroy(&as->cu));
   PetscCall(VecDestroy(&as->all));
   PetscCall(VecScatterDestroy(&as->toall));
-  if (as->cond) {
-    PetscCall(CondensedDestroy(as->cond));
-    PetscCall(PetscFree(as->cond));
-  }
+  PetscCall(CondensedDestroy(&as->cond));
   PetscFunctionReturn(0);
 }
 
@@ -474,13 +472,13 @@ static PetscErrorCode ConfigureSNES(SNES snes, M2dActiveSet *as)
 /* condensed path: factor once; the SNES unknown is nu, its dense Jacobian solved by LAPACK on every rank */
 static PetscErrorCode SetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info)
 {
-  KSP ksp;
-  PC  pc;
+  KSP              ksp;
+  PC               pc;
+  M2dCondensedInfo ci;
 
   PetscFunctionBeginUser;
   PetscCheck(as->kkt->aij && as->kkt->gamma > 0, PetscObjectComm((PetscObject)snes), PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
-  PetscCall(PetscNew(&as->cond));
-  PetscCall(CondensedCreate(as->kkt, &as->pb->s, as->cond));
+  PetscCall(CondensedCreateFromKKT(as->kkt, &as->pb->s, &as->cond));
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
@@ -489,10 +487,11 @@ static PetscErrorCode SetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetIn
   PetscCall(PCShellSetSetUp(pc, DensePCSetUp));
   PetscCall(PCShellSetApply(pc, DensePCApply));
   PetscCall(PCShellSetName(pc, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
-  info->factor_time        = as->cond->factor_time;
-  info->factor_flops       = as->cond->flops_sum;
-  info->factor_flops_max   = as->cond->flops_max;
-  info->interface_unknowns = as->cond->ns + as->cond->N;
+  PetscCall(CondensedGetInfo(as->cond, &ci));
+  info->factor_time        = ci.factor_time;
+  info->factor_flops       = ci.flops_sum;
+  info->factor_flops_max   = ci.flops_max;
+  info->interface_unknowns = ci.interface_unknowns;
   PetscFunctionReturn(0);
 }
 

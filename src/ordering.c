@@ -25,29 +25,14 @@ static PetscErrorCode ClosedRows(PetscInt n, const PetscInt ia[], const PetscInt
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
+/* Group consecutive rows with the same closed neighbourhood (the two dofs of
+ * a node); rows in `last` stay out (grp -1). Group g is rows gstart[g] ..
+ * gstart[g + 1] - 1 (those with grp == g) */
+static PetscErrorCode GroupRows(PetscInt n, const PetscInt xr[], const PetscInt adj[], IS last, PetscInt grp[], PetscInt gstart[], PetscInt *ngroups)
 {
-  const PetscInt *ia, *ja;
-  PetscInt        n, *xr = NULL, *adj = NULL, *grp, *gstart, ng = 0, *out, cnt = 0;
-  PetscBool       done, seq;
-  idx_t           nv, *xadj, *gadj, *vwgt, *perm, *iperm, opts[METIS_NOPTIONS];
-  PetscInt        nadj = 0, *stamp;
-  int             rc;
-  static PetscLogEvent ev = 0;
+  PetscInt ng = 0;
 
   PetscFunctionBeginUser;
-  if (!ev) PetscCall(PetscLogEventRegister("M2dMetisOrder", MAT_CLASSID, &ev));
-  PetscCall(PetscObjectBaseTypeCompare((PetscObject)A, MATSEQAIJ, &seq));
-  PetscCheck(seq, PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "option -kkt_ordering metis: needs a sequential AIJ matrix (one rank)");
-  PetscCall(PetscLogEventBegin(ev, A, 0, 0, 0));
-  PetscCall(MatGetRowIJ(A, 0, PETSC_TRUE, PETSC_FALSE, &n, &ia, &ja, &done));
-  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "option -kkt_ordering metis: the matrix gives no row structure");
-  PetscCall(ClosedRows(n, ia, ja, &xr, &adj));
-  PetscCall(MatRestoreRowIJ(A, 0, PETSC_TRUE, PETSC_FALSE, &n, &ia, &ja, &done));
-  PetscCall(MatGetSize(A, &n, NULL));
-
-  /* group consecutive rows with the same closed neighbourhood; rows in `last` stay out (-1) */
-  PetscCall(PetscMalloc3(n, &grp, n + 1, &gstart, n, &stamp));
   for (PetscInt i = 0; i < n; i++) grp[i] = 0;
   if (last) {
     const PetscInt *il;
@@ -71,40 +56,44 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
     grp[i] = ng - 1;
   }
   gstart[ng] = n;
+  *ngroups   = ng;
+  PetscFunctionReturn(0);
+}
 
-  /* the quotient graph, vertex weight = rows in the group */
-  PetscCall(PetscMalloc3(ng + 1, &xadj, ng, &vwgt, xr[n], &gadj));
+/* the graph of the groups for METIS; vertex weight = rows in the group */
+static PetscErrorCode QuotientGraph(PetscInt n, const PetscInt xr[], const PetscInt adj[], const PetscInt grp[], const PetscInt gstart[], PetscInt ng, idx_t **xadj, idx_t **gadj, idx_t **vwgt)
+{
+  PetscInt *stamp, nadj = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(ng + 1, xadj, ng + 1, vwgt, xr[n] + 1, gadj));
+  PetscCall(PetscMalloc1(ng + 1, &stamp));
   for (PetscInt g = 0; g < ng; g++) stamp[g] = -1;
-  xadj[0] = 0;
+  (*xadj)[0] = 0;
   for (PetscInt g = 0; g < ng; g++) {
     PetscInt r = gstart[g], sz = 0;
     for (PetscInt i = r; i < n && grp[i] == g; i++) sz++;
-    vwgt[g]  = (idx_t)sz;
-    stamp[g] = g;
+    (*vwgt)[g] = (idx_t)sz;
+    stamp[g]   = g;
     for (PetscInt k = xr[r]; k < xr[r + 1]; k++) {
       PetscInt h = grp[adj[k]];
       if (h < 0 || stamp[h] == g) continue;
-      stamp[h]       = g;
-      gadj[nadj++] = (idx_t)h;
+      stamp[h]        = g;
+      (*gadj)[nadj++] = (idx_t)h;
     }
-    xadj[g + 1] = (idx_t)nadj;
+    (*xadj)[g + 1] = (idx_t)nadj;
   }
-  PetscCall(PetscFree(xr));
-  PetscCall(PetscFree(adj));
+  PetscCall(PetscFree(stamp));
+  PetscFunctionReturn(0);
+}
 
-  PetscCall(PetscMalloc2(ng, &perm, ng, &iperm));
-  nv = (idx_t)ng;
-  METIS_SetDefaultOptions(opts);
-  opts[METIS_OPTION_NUMBERING] = 0;
-  {
-    double t0 = MPI_Wtime();
-    rc = ng > 0 ? METIS_NodeND(&nv, xadj, gadj, vwgt, opts, perm, iperm) : METIS_OK;
-    PetscCall(PetscInfo(A, "METIS_NodeND: %" PetscInt_FMT " vertices for %" PetscInt_FMT " rows, %g s\n", ng, n, MPI_Wtime() - t0));
-  }
-  PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "option -kkt_ordering metis: METIS_NodeND failed (%d)", rc);
+/* position of every row: the groups in METIS' order (the rows of a group
+ * keep theirs), then the `last` rows in their given order */
+static PetscErrorCode ExpandOrder(PetscInt n, const PetscInt grp[], const PetscInt gstart[], PetscInt ng, const idx_t perm[], IS last, PetscInt out[])
+{
+  PetscInt cnt = 0;
 
-  /* expand: the rows of a group keep their order; `last` rows at the end */
-  PetscCall(PetscMalloc1(n, &out));
+  PetscFunctionBeginUser;
   for (PetscInt k = 0; k < ng; k++) {
     PetscInt g = (PetscInt)perm[k];
     for (PetscInt i = gstart[g]; i < gstart[g + 1] && grp[i] == g; i++) out[i] = cnt++;
@@ -118,9 +107,47 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
     PetscCall(ISRestoreIndices(last, &il));
   }
   PetscCheck(cnt == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "METIS ordering covers %" PetscInt_FMT " of %" PetscInt_FMT " rows", cnt, n);
-  PetscCall(PetscFree2(perm, iperm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
+{
+  const PetscInt *ia, *ja;
+  PetscInt        n, *xr, *adj, *grp, *gstart, ng, *out;
+  PetscBool       done, seq;
+  idx_t           nv, *xadj, *gadj, *vwgt, *perm, *iperm, opts[METIS_NOPTIONS];
+  int             rc;
+  PetscLogEvent   ev;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventRegister("M2dMetisOrder", MAT_CLASSID, &ev)); /* registered once: PETSc returns the known event */
+  PetscCall(PetscObjectBaseTypeCompare((PetscObject)A, MATSEQAIJ, &seq));
+  PetscCheck(seq, PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "option -kkt_ordering metis: needs a sequential AIJ matrix (one rank)");
+  PetscCall(PetscLogEventBegin(ev, A, 0, 0, 0));
+  PetscCall(MatGetRowIJ(A, 0, PETSC_TRUE, PETSC_FALSE, &n, &ia, &ja, &done));
+  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "option -kkt_ordering metis: the matrix gives no row structure");
+  PetscCall(ClosedRows(n, ia, ja, &xr, &adj));
+  PetscCall(MatRestoreRowIJ(A, 0, PETSC_TRUE, PETSC_FALSE, &n, &ia, &ja, &done));
+  PetscCall(MatGetSize(A, &n, NULL));
+  PetscCall(PetscMalloc2(n + 1, &grp, n + 1, &gstart));
+  PetscCall(PetscMalloc1(n + 1, &out)); /* owned by the IS */
+  PetscCall(GroupRows(n, xr, adj, last, grp, gstart, &ng));
+  PetscCall(QuotientGraph(n, xr, adj, grp, gstart, ng, &xadj, &gadj, &vwgt));
+  PetscCall(PetscFree(xr));
+  PetscCall(PetscFree(adj));
+
+  PetscCall(PetscMalloc2(ng + 1, &perm, ng + 1, &iperm));
+  nv = (idx_t)ng;
+  METIS_SetDefaultOptions(opts);
+  opts[METIS_OPTION_NUMBERING] = 0;
+  rc = ng > 0 ? METIS_NodeND(&nv, xadj, gadj, vwgt, opts, perm, iperm) : METIS_OK;
+  PetscCall(PetscInfo(A, "METIS_NodeND: %" PetscInt_FMT " vertices for %" PetscInt_FMT " rows\n", ng, n));
   PetscCall(PetscFree3(xadj, vwgt, gadj));
-  PetscCall(PetscFree3(grp, gstart, stamp));
+  if (rc == METIS_OK) PetscCall(ExpandOrder(n, grp, gstart, ng, perm, last, out));
+  PetscCall(PetscFree2(perm, iperm));
+  PetscCall(PetscFree2(grp, gstart));
+  if (rc != METIS_OK) PetscCall(PetscFree(out));
+  PetscCheck(rc == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "option -kkt_ordering metis: METIS_NodeND failed (%d)", rc);
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, out, PETSC_OWN_POINTER, pos));
   PetscCall(PetscLogEventEnd(ev, A, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -135,30 +162,74 @@ static PetscErrorCode MatGetOrdering_M2dMetis(Mat A, MatOrderingType type, IS *r
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *applied)
+/* A PC that factors with MUMPS: its factor type, or MAT_FACTOR_NONE */
+static PetscErrorCode MumpsFactorType(PC pc, MatFactorType *ft)
 {
-  static PetscBool registered = PETSC_FALSE;
-  PC               pc;
-  PetscBool        lu, mumps = PETSC_FALSE;
-  PetscMPIInt      size;
-  MatSolverType    st;
+  PetscBool     lu, chol, mumps = PETSC_FALSE;
+  MatSolverType st;
 
   PetscFunctionBeginUser;
-  if (applied) *applied = PETSC_FALSE;
-  if (ord != M2D_ORDERING_METIS) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)ksp), &size));
-  if (size > 1) PetscFunctionReturn(0);
-  PetscCall(KSPGetPC(ksp, &pc));
+  *ft = MAT_FACTOR_NONE;
   PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCLU, &lu));
-  if (!lu) PetscFunctionReturn(0);
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCCHOLESKY, &chol));
+  if (!lu && !chol) PetscFunctionReturn(0);
   PetscCall(PCFactorGetMatSolverType(pc, &st));
   if (st) PetscCall(PetscStrcmp(st, MATSOLVERMUMPS, &mumps));
-  if (!mumps) PetscFunctionReturn(0);
-  if (!registered) {
-    PetscCall(MatOrderingRegister(MATORDERINGM2DMETIS, MatGetOrdering_M2dMetis));
-    registered = PETSC_TRUE;
+  if (mumps) *ft = lu ? MAT_FACTOR_LU : MAT_FACTOR_CHOLESKY;
+  PetscFunctionReturn(0);
+}
+
+/* MUMPS' AMF ordering (ICNTL(7) = 2) for a factorization PETSc hands no
+ * ordering, unless -mat_mumps_icntl_7 is given. Set on the factor matrix
+ * (MatMumpsSetIcntl), which PETSc 3.18 keeps on several ranks; on one rank
+ * its sequential analysis first sets ICNTL(7) from the PC's ordering (7
+ * without one) and only then reads the options database, so there the
+ * database, under the PC's prefix, is the only way in (tests/test_ordering.c
+ * checks the ordering MUMPS used, INFOG(7), on 1 and 2 ranks). */
+static PetscErrorCode SetMumpsAMF(PC pc, MatFactorType ft)
+{
+  const char *prefix;
+  char        name[256];
+  PetscBool   given, set, avail;
+  Mat         P, F;
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCGetOptionsPrefix(pc, &prefix));
+  PetscCall(PetscOptionsHasName(NULL, prefix, "-mat_mumps_icntl_7", &given));
+  PetscCall(PCGetOperatorsSet(pc, NULL, &set));
+  if (given || !set) PetscFunctionReturn(0);
+  PetscCall(PCGetOperators(pc, NULL, &P));
+  PetscCall(MatGetFactorAvailable(P, MATSOLVERMUMPS, ft, &avail));
+  if (!avail) PetscFunctionReturn(0); /* e.g. a MatNest: KKTSetupKSP says what to do */
+  PetscCall(PCFactorSetUpMatSolverType(pc));
+  PetscCall(PCFactorGetMatrix(pc, &F));
+  PetscCall(MatMumpsSetIcntl(F, 7, 2));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pc), &size));
+  if (size == 1) {
+    PetscCall(PetscSNPrintf(name, sizeof(name), "-%smat_mumps_icntl_7", prefix ? prefix : ""));
+    PetscCall(PetscOptionsSetValue(NULL, name, "2"));
   }
-  PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGM2DMETIS));
-  if (applied) *applied = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *metis)
+{
+  PC            pc;
+  MatFactorType ft;
+  PetscMPIInt   size;
+
+  PetscFunctionBeginUser;
+  if (metis) *metis = PETSC_FALSE;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(MumpsFactorType(pc, &ft));
+  if (ft == MAT_FACTOR_NONE) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)ksp), &size));
+  /* PETSc 3.18 hands MUMPS an ordering only for LU on one rank */
+  if (ord == M2D_ORDERING_METIS && ft == MAT_FACTOR_LU && size == 1) {
+    PetscCall(MatOrderingRegister(MATORDERINGM2DMETIS, MatGetOrdering_M2dMetis)); /* again: replaces */
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGM2DMETIS));
+    if (metis) *metis = PETSC_TRUE;
+  } else PetscCall(SetMumpsAMF(pc, ft));
   PetscFunctionReturn(0);
 }

@@ -34,16 +34,14 @@ const char *M2dSolverPathName(M2dSolverPath path)
 }
 
 /* Linear solves (no contact, or tied) default to MUMPS LDL^T (PCCHOLESKY):
- * the matrix is symmetric, as on the condensed path. PETSc 3.18 hands MUMPS no
- * ordering for a Cholesky factor: MUMPS orders with AMF unless
- * -mat_mumps_icntl_7 says otherwise; the METIS ordering applies to
- * -pc_type lu on one rank. Every choice can be overridden from the options
- * database. */
+ * the matrix is symmetric, as on the condensed path. The ordering is
+ * M2dOrderingSetupKSP's: MUMPS' AMF for a Cholesky factor (PETSc 3.18 hands
+ * MUMPS none), METIS for -pc_type lu on one rank. Every choice can be
+ * overridden from the options database. */
 static PetscErrorCode SetupLinearKSP(KSP ksp, M2dOrdering ord)
 {
-  PC            pc;
-  PetscBool     factor, chosen, given, metis;
-  MatSolverType st;
+  PC        pc;
+  PetscBool factor, chosen;
 
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPPREONLY));
@@ -54,13 +52,7 @@ static PetscErrorCode SetupLinearKSP(KSP ksp, M2dOrdering ord)
   PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
   PetscCall(PetscOptionsHasName(NULL, NULL, "-pc_factor_mat_solver_type", &chosen));
   if (factor && !chosen) PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS)); /* -pc_type lu alone: still MUMPS */
-  PetscCall(M2dOrderingSetupKSP(ksp, ord, &metis));
-  /* through the options database: PETSc 3.18 re-initialises MUMPS at the symbolic factorization */
-  PetscCall(PetscOptionsHasName(NULL, NULL, "-mat_mumps_icntl_7", &given));
-  if (factor && !metis && !given) {
-    PetscCall(PCFactorGetMatSolverType(pc, &st));
-    if (st && !strcmp(st, MATSOLVERMUMPS)) PetscCall(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_7", "2"));
-  }
+  PetscCall(M2dOrderingSetupKSP(ksp, ord, NULL));
   PetscFunctionReturn(0);
 }
 
