@@ -1,13 +1,13 @@
 /* outputset.h - the results of a run replace the previous results as a whole.
  *
  * Layout of an output directory DIR for -output_name N:
- *   N.h5 N.xmf N.vtu N_contact.csv [summary]   symbolic links  -> .m2d-set.N/<file>
- *   .m2d-set.N                                 symbolic link   -> .m2d-gen.<host>.<pid>.<k>.N
- *   .m2d-gen.<host>.<pid>.<k>.N/               the files of the current set
- * A run writes its files into a new .m2d-gen... directory (the staging area);
- * commit makes sure every public name is a link through .m2d-set.N (a name
+ *   N.h5 N.xmf N.vtu N_contact.csv [summary]   symbolic links  -> .m2d.set.N/<file>
+ *   .m2d.set.N                                 symbolic link   -> .m2d.gen.<host>.<pid>.<k>.N
+ *   .m2d.gen.<host>.<pid>.<k>.N/               the files of the current set
+ * A run writes its files into a new .m2d.gen... directory (the staging area);
+ * commit makes sure every public name is a link through .m2d.set.N (a name
  * that is still a plain file is first hard-linked into the current set, so a
- * reader sees no change), then switches .m2d-set.N with one rename(2).
+ * reader sees no change), then switches .m2d.set.N with one rename(2).
  * Guarantee: at every instant, and after any interruption (signal, SIGKILL,
  * crash; files and directory are fsync'ed before the switch), the names in
  * DIR resolve to the complete previous set or the complete new set.  Files

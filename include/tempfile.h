@@ -6,15 +6,16 @@
  * "mortar2d: error: interrupted by SIGINT; ..." on world rank 0 and _exit(1).
  * The same table is emptied at exit() (an error return from main), so an
  * error never leaves a temporary behind.  What a SIGKILL leaves is recognised
- * by the next run by its name, .m2d-<kind>.<host>.<pid>.*: <host> is a hash of
- * the host name, and an entry whose process is gone (kill(pid, 0) gives ESRCH)
- * on this host is removed (M2dTempRemoveStale); a live run's entry is kept. */
+ * by the next run by its name, .m2d.<kind>.<host>.<pid>.*: <host> is a hash of
+ * the host name, and an entry whose process is gone (kill(pid, 0) gives ESRCH,
+ * or a zombie) on this host is removed (M2dTempRemoveStale); a live run's
+ * entry is kept. */
 #ifndef M2D_TEMPFILE_H
 #define M2D_TEMPFILE_H
 #include <petscsys.h>
 #include <stdio.h>
 
-#define M2D_TEMP_PREFIX ".m2d-"
+#define M2D_TEMP_PREFIX ".m2d."
 #define M2D_NAME_MAX    255 /* longest directory entry (Linux NAME_MAX) */
 
 /* Install the SIGINT/SIGTERM/SIGHUP handlers, after PetscInitialize (whose
@@ -46,16 +47,16 @@ const char *M2dTempTag(void);
 /* TRUE if `name` (a directory entry) is of the form PREFIX<tag>.rest with tag of
  * this host and a process that no longer exists; *rest points into name. */
 PetscBool M2dTempIsStale(const char *name, const char *prefix, const char **rest);
-/* Remove, in directory dir, the files .m2d-{tmp,probe,lnk}.<stale tag>* and
+/* Remove, in directory dir, the files .m2d.{tmp,tmp-probe,tmp-link}.<stale tag>* and
  * the temporaries of earlier versions, <base>.tmp<dead pid>, for each base of
  * `bases` (NULL-terminated or NULL).  Not collective; errors ignored. */
 void M2dTempRemoveStale(const char *dir, const char *const *bases);
 
-/* The name a user knows for path: DIR/f for a staged DIR/.m2d-gen.../f (for
+/* The name a user knows for path: DIR/f for a staged DIR/.m2d.gen.../f (for
  * messages); buf holds it when it differs.  Not collective. */
 const char *M2dPublicName(const char *path, char *buf, size_t len);
 
-/* Temporary name of path: DIR/.m2d-tmp.<tag>.BASE; errors when it does not fit. */
+/* Temporary name of path: DIR/.m2d.tmp.<tag>.BASE; errors when it does not fit. */
 PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len);
 
 /* One file written under its temporary name and renamed when complete (a

@@ -17,6 +17,8 @@ PetscErrorCode M2dRemoveErrorHandler(void);
 /* The first error message raised since the last M2dClearError (static storage,
  * one printable line), or "unknown error". */
 const char *M2dFirstError(void);
+/* TRUE once an error was raised (main reports it; async-signal-safe). */
+PetscBool M2dHaveError(void);
 void        M2dClearError(void);
 
 /* Raise the same error on every rank of comm if `bad` is true on any rank; the

@@ -11,7 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define M2D_OUTPUT_NAME_MAX 200 /* leaves room for .m2d-gen.<tag>.<k>. within NAME_MAX */
+#define M2D_OUTPUT_NAME_MAX 200 /* leaves room for .m2d.gen.<tag>.<k>. within NAME_MAX */
 #define M2D_WORST_TAG       "ffffffff.2147483647.2147483647"
 
 static const char *const suffix[] = {".h5", ".xmf", ".vtu", "_contact.csv"};
@@ -68,11 +68,11 @@ static PetscErrorCode CheckLengths(const char *outdir, const char *outname, cons
   char buf[PETSC_MAX_PATH_LEN], sumdir[PETSC_MAX_PATH_LEN], base[M2D_NAME_MAX + 1];
 
   PetscFunctionBeginUser;
-  if (files) PetscCall(M2dPathPrintf(buf, sizeof(buf), "-output_dir", "%s/.m2d-gen." M2D_WORST_TAG ".%s/.m2d-tmp." M2D_WORST_TAG ".%s_contact.csv", outdir, outname, outname));
+  if (files) PetscCall(M2dPathPrintf(buf, sizeof(buf), "-output_dir", "%s/.m2d.gen." M2D_WORST_TAG ".%s/.m2d.tmp." M2D_WORST_TAG ".%s_contact.csv", outdir, outname, outname));
   if (summary[0]) {
     PetscCall(M2dSetSplitPath(summary, sumdir, sizeof(sumdir), base));
-    PetscCall(M2dPathPrintf(buf, sizeof(buf), "-summary", "%s/.m2d-tmp." M2D_WORST_TAG ".%s", sumdir, base));
-    PetscCall(M2dPathPrintf(buf, M2D_NAME_MAX + 1, "-summary", ".m2d-tmp." M2D_WORST_TAG ".%s", base));
+    PetscCall(M2dPathPrintf(buf, sizeof(buf), "-summary", "%s/.m2d.tmp." M2D_WORST_TAG ".%s", sumdir, base));
+    PetscCall(M2dPathPrintf(buf, M2D_NAME_MAX + 1, "-summary", ".m2d.tmp." M2D_WORST_TAG ".%s", base));
   }
   PetscFunctionReturn(0);
 }
@@ -84,7 +84,7 @@ static PetscErrorCode Probe(const char *dir, const char *opt, PetscBool links)
   int  slot, fd, e = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dPathPrintf(path, sizeof(path), opt, "%s/" M2D_TEMP_PREFIX "probe.%s", dir, M2dTempTag()));
+  PetscCall(M2dPathPrintf(path, sizeof(path), opt, "%s/" M2D_TEMP_PREFIX "tmp-probe.%s", dir, M2dTempTag()));
   PetscCall(M2dTempRecord(path, PETSC_FALSE, &slot));
   fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
   if (fd < 0 || write(fd, "", 1) != 1) e = errno;
@@ -118,7 +118,7 @@ static PetscErrorCode CheckPublic(const char *outdir, const char *outname)
   PetscFunctionReturn(0);
 }
 
-/* .m2d-gen.<tag>.<k>.NAME of a dead process that no .m2d-set.NAME points to */
+/* .m2d.gen.<tag>.<k>.NAME of a dead process that no .m2d.set.NAME points to */
 static void RemoveStaleGens(const char *dir)
 {
   DIR           *d = opendir(dir);

@@ -18,7 +18,7 @@ struct _p_M2dOutputSet {
   PetscBool   files;                      /* DIR is used (HDF5/VTU/CSV) */
   char        dir[PETSC_MAX_PATH_LEN];
   char        name[M2D_NAME_MAX + 1];
-  char        stage[M2D_NAME_MAX + 1];    /* .m2d-gen... (in DIR) */
+  char        stage[M2D_NAME_MAX + 1];    /* .m2d.gen... (in DIR) */
   char        stagepath[PETSC_MAX_PATH_LEN];
   int         stageslot;
   PetscInt    n;                          /* files in the set */
@@ -59,7 +59,7 @@ void M2dSetRemoveGen(const char *dir, const char *gen)
   DIR           *d;
   struct dirent *e;
 
-  if (strncmp(gen, M2D_TEMP_PREFIX "gen.", 9) || strchr(gen, '/')) return; /* only ours */
+  if (strncmp(gen, M2D_TEMP_PREFIX "gen.", sizeof(M2D_TEMP_PREFIX "gen.") - 1) || strchr(gen, '/')) return; /* only ours */
   if ((size_t)snprintf(path, sizeof(path), "%s/%s", dir, gen) >= sizeof(path)) return;
   if (!(d = opendir(path))) return;
   while ((e = readdir(d)))
@@ -85,7 +85,7 @@ static PetscErrorCode SwapLink(const char *dir, const char *text, const char *ta
   int  slot;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), "-output_dir", "%s/" M2D_TEMP_PREFIX "lnk.%s", dir, M2dTempTag()));
+  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), "-output_dir", "%s/" M2D_TEMP_PREFIX "tmp-link.%s", dir, M2dTempTag()));
   PetscCall(M2dTempRecord(tmp, PETSC_FALSE, &slot));
   unlink(tmp);
   if (symlink(text, tmp) || rename(tmp, target)) {
@@ -99,6 +99,22 @@ static PetscErrorCode SwapLink(const char *dir, const char *text, const char *ta
 }
 
 /* ---------- begin ---------- */
+/* create DIR/.m2d.gen.<tag>.<kind><k>.NAME with the first free k: a directory
+ * of the same name can only be left by an earlier process with our pid */
+static PetscErrorCode MakeGen(M2dOutputSet s, const char *kind, int *k, char *gen, char *path, int *slot)
+{
+  PetscFunctionBeginUser;
+  for (int tries = 0;; tries++) {
+    PetscCall(M2dPathPrintf(gen, M2D_NAME_MAX + 1, "-output_name", M2D_TEMP_PREFIX "gen.%s.%s%d.%s", M2dTempTag(), kind, (*k)++, s->name));
+    PetscCall(M2dPathPrintf(path, PETSC_MAX_PATH_LEN, "-output_dir", "%s/%s", s->dir, gen));
+    PetscCall(M2dTempRecord(path, PETSC_TRUE, slot));
+    if (!mkdir(path, 0777)) break;
+    M2dTempForget(slot);
+    PetscCheck(errno == EEXIST && tries < 1000, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -output_dir: cannot create '%s': %s", path, strerror(errno));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BeginLocal(M2dOutputSet s, const char *summary)
 {
   static int seq = 0;
@@ -107,10 +123,7 @@ static PetscErrorCode BeginLocal(M2dOutputSet s, const char *summary)
   PetscFunctionBeginUser;
   if (s->files) {
     PetscCheck(!M2dMakeDirs(s->dir, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -output_dir: %s", why);
-    PetscCall(M2dPathPrintf(s->stage, sizeof(s->stage), "-output_name", M2D_TEMP_PREFIX "gen.%s.%d.%s", M2dTempTag(), seq++, s->name));
-    PetscCall(M2dPathPrintf(s->stagepath, sizeof(s->stagepath), "-output_dir", "%s/%s", s->dir, s->stage));
-    PetscCall(M2dTempRecord(s->stagepath, PETSC_TRUE, &s->stageslot));
-    PetscCheck(!mkdir(s->stagepath, 0777), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -output_dir: cannot create '%s': %s", s->stagepath, strerror(errno));
+    PetscCall(MakeGen(s, "", &seq, s->stage, s->stagepath, &s->stageslot));
   }
   if (summary && summary[0]) {
     struct stat a, b;
@@ -133,16 +146,18 @@ PetscErrorCode M2dOutputSetBegin(MPI_Comm comm, const char *outdir, const char *
   int            inside;
 
   PetscFunctionBeginUser;
+  *set = NULL;
+  PetscCheck(strlen(outdir) < sizeof(s->dir) && strlen(outname) < sizeof(s->name), PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "option -output_dir or -output_name: the name is too long");
   PetscCall(PetscNew(&s));
   s->comm      = comm;
   s->files     = write_files;
   s->stageslot = s->sumslot = -1;
   for (int i = 0; i < M2D_SET_MAX; i++) s->slot[i] = -1;
   PetscCallMPI(MPI_Comm_rank(comm, &s->rank));
+  PetscCall(PetscStrncpy(s->dir, outdir, sizeof(s->dir)));
+  PetscCall(PetscStrncpy(s->name, outname, sizeof(s->name)));
   *set = s;
   Track(s, PETSC_TRUE);
-  PetscCall(M2dPathPrintf(s->dir, sizeof(s->dir), "-output_dir", "%s", outdir));
-  PetscCall(M2dPathPrintf(s->name, sizeof(s->name), "-output_name", "%s", outname));
   if (s->rank == 0) {
     ierr = BeginLocal(s, summary);
     if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
@@ -267,10 +282,7 @@ static PetscErrorCode EnsureCurrent(M2dOutputSet s, const char *ptrpath, char *o
 
   PetscFunctionBeginUser;
   if (old[0]) PetscFunctionReturn(0);
-  PetscCall(M2dPathPrintf(gen, sizeof(gen), "-output_name", M2D_TEMP_PREFIX "gen.%s.a%d.%s", M2dTempTag(), adopt++, s->name));
-  PetscCall(M2dPathPrintf(path, sizeof(path), "-output_dir", "%s/%s", s->dir, gen));
-  PetscCall(M2dTempRecord(path, PETSC_TRUE, &slot));
-  PetscCheck(!mkdir(path, 0777), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir: cannot create '%s': %s", path, strerror(errno));
+  PetscCall(MakeGen(s, "a", &adopt, gen, path, &slot));
   M2dTempCommitBegin();
   if (SwapLink(s->dir, gen, ptrpath)) {
     M2dTempCommitEnd(PETSC_FALSE);
@@ -284,7 +296,7 @@ static PetscErrorCode EnsureCurrent(M2dOutputSet s, const char *ptrpath, char *o
   PetscFunctionReturn(0);
 }
 
-/* public name DIR/base becomes the link .m2d-set.N/base; what it showed before
+/* public name DIR/base becomes the link .m2d.set.N/base; what it showed before
  * is first placed in the current set, so that it keeps showing the same file */
 static PetscErrorCode PublishName(M2dOutputSet s, const char *base, const char *ptr, const char *ptrpath, char *old, size_t len)
 {
@@ -354,7 +366,7 @@ static PetscErrorCode ListOld(M2dOutputSet s, const char *old, OldSet *o)
 
   PetscFunctionBeginUser;
   o->n = 0;
-  if (!old[0] || !strcmp(old, s->stage) || strncmp(old, M2D_TEMP_PREFIX "gen.", 9) || strchr(old, '/')) PetscFunctionReturn(0);
+  if (!old[0] || !strcmp(old, s->stage) || strncmp(old, M2D_TEMP_PREFIX "gen.", sizeof(M2D_TEMP_PREFIX "gen.") - 1) || strchr(old, '/')) PetscFunctionReturn(0);
   PetscCall(M2dPathPrintf(o->path[0], sizeof(o->path[0]), "-output_dir", "%s/%s", s->dir, old));
   o->n = 1;
   if (!(d = opendir(o->path[0]))) PetscFunctionReturn(0);

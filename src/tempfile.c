@@ -4,6 +4,7 @@
  * atomic (idle, commit, dying) so that a signal taken on any thread either
  * finds no switch in progress or is deferred until the switch is done. */
 #include "tempfile.h"
+#include "util.h"
 #include <dirent.h>
 #include <errno.h>
 #include <signal.h>
@@ -58,15 +59,18 @@ static void Die(int sig)
   for (const char *p = name; *p; p++) line[n++] = *p;
   for (const char *p = what; *p && n < sizeof(line) - 1; p++) line[n++] = *p;
   line[n++] = '\n';
-  /* under mpiexec: the job is killed (SIGKILL) as soon as one rank exits, and
-   * the output of the rank that exits is not always relayed; so rank 0, which
-   * owns the files, cleans up first and leaves mpiexec time to read its line */
-  if (world_rank == 0) {
+  /* under mpiexec the job ends as soon as one rank exits (the others are
+   * killed, later output is lost): rank 0, which owns the files, must be the
+   * first to exit, after its line has been read; the other ranks wait for
+   * mpiexec to end them */
+  /* after an error main prints that error: mpiexec's SIGTERM to the ranks
+   * still finishing must not add a second line */
+  if (world_rank == 0 && !M2dHaveError()) {
     ssize_t w = write(STDERR_FILENO, line, n);
     (void)w;
   }
   if (world_size > 1) {
-    struct timespec ts = {0, world_rank == 0 ? 100000000 : 300000000};
+    struct timespec ts = {world_rank == 0 ? 0 : 5, world_rank == 0 ? 100000000 : 0};
     nanosleep(&ts, NULL);
   }
   _exit(1);
@@ -203,6 +207,22 @@ void M2dTempCommitEnd(PetscBool written)
   if (sig) Handler(sig);
 }
 
+/* a process that exited but was not reaped yet (a zombie, e.g. a rank whose
+ * mpiexec is gone) still answers kill(pid, 0): look at its state too */
+static PetscBool Gone(long pid)
+{
+  char  path[64], buf[256], *p;
+  FILE *fp;
+  int   zombie = 0;
+
+  if (kill((pid_t)pid, 0)) return errno == ESRCH ? PETSC_TRUE : PETSC_FALSE;
+  snprintf(path, sizeof(path), "/proc/%ld/stat", pid);
+  if (!(fp = fopen(path, "r"))) return PETSC_FALSE;
+  if (fgets(buf, sizeof(buf), fp) && (p = strrchr(buf, ')')) && p[1] == ' ') zombie = p[2] == 'Z' || p[2] == 'X';
+  fclose(fp);
+  return zombie ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* "<8 hex>.<pid>." after prefix: this host's tag of a process that is gone */
 PetscBool M2dTempIsStale(const char *name, const char *prefix, const char **rest)
 {
@@ -217,7 +237,7 @@ PetscBool M2dTempIsStale(const char *name, const char *prefix, const char **rest
   if (end == p || (*end != '.' && *end != 0) || pid <= 0) return PETSC_FALSE;
   if (rest) *rest = *end ? end + 1 : end;
   if (pid == (long)getpid()) return PETSC_FALSE;
-  return (kill((pid_t)pid, 0) && errno == ESRCH) ? PETSC_TRUE : PETSC_FALSE;
+  return Gone(pid);
 }
 
 /* the temporaries of earlier versions: BASE.tmp<pid> */
@@ -230,12 +250,12 @@ static PetscBool LegacyStale(const char *name, const char *base)
   if (strncmp(name, base, lb) || strncmp(name + lb, ".tmp", 4)) return PETSC_FALSE;
   pid = strtol(name + lb + 4, &end, 10);
   if (end == name + lb + 4 || *end || pid <= 0 || pid == (long)getpid()) return PETSC_FALSE;
-  return (kill((pid_t)pid, 0) && errno == ESRCH) ? PETSC_TRUE : PETSC_FALSE;
+  return Gone(pid);
 }
 
 void M2dTempRemoveStale(const char *dir, const char *const *bases)
 {
-  static const char *const kinds[] = {M2D_TEMP_PREFIX "tmp.", M2D_TEMP_PREFIX "probe.", M2D_TEMP_PREFIX "lnk.", NULL};
+  static const char *const kinds[] = {M2D_TEMP_PREFIX "tmp.", M2D_TEMP_PREFIX "tmp-probe.", M2D_TEMP_PREFIX "tmp-link.", NULL};
   DIR                     *d       = opendir(dir);
   struct dirent           *e;
   char                     path[PETSC_MAX_PATH_LEN];

@@ -1,6 +1,7 @@
 /* util.c - see util.h. */
 #include "util.h"
 #include <errno.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,7 +9,7 @@
 #include <unistd.h>
 
 static char first_error[4096];
-static int  have_error;
+static volatile sig_atomic_t have_error; /* read by the signal handler */
 
 static PetscErrorCode M2dErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
@@ -42,6 +43,11 @@ PetscErrorCode M2dRemoveErrorHandler(void)
   PetscFunctionBeginUser;
   PetscCall(PetscPopErrorHandler());
   PetscFunctionReturn(0);
+}
+
+PetscBool M2dHaveError(void)
+{
+  return have_error ? PETSC_TRUE : PETSC_FALSE;
 }
 
 const char *M2dFirstError(void)

@@ -132,9 +132,9 @@ def classify(got, refs):
 
 def leftovers(d, keep=()):
     """entries of d besides the public names, the current set and `keep`"""
-    ptr = os.path.join(d, ".m2d-set." + NAME)
+    ptr = os.path.join(d, ".m2d.set." + NAME)
     cur = os.readlink(ptr) if os.path.islink(ptr) else None
-    return sorted(n for n in os.listdir(d) if n not in PUB and n not in keep and n not in (".m2d-set." + NAME, cur))
+    return sorted(n for n in os.listdir(d) if n not in PUB and n not in keep and n not in (".m2d.set." + NAME, cur))
 
 
 def good_run(d, which, ranks=1, level=2, summary=None):
@@ -152,18 +152,18 @@ def reference(which, ranks, level=2):
 
 
 def gens(d):
-    return {n for n in os.listdir(d) if n.startswith(".m2d-gen.")}
+    return {n for n in os.listdir(d) if n.startswith(".m2d.gen.")}
 
 
 def interrupted(d, which, ranks, sig, moment, level=2, delay=DELAY, summary=None, wait_for="stage"):
     """start a run, interrupt it `moment` s after its staging directory appears
-    (wait_for='switch': right after .m2d-set.NAME changes; 'start': after the
+    (wait_for='switch': right after .m2d.set.NAME changes; 'start': after the
     first line of stdout, before the solve); return (rc, stderr lines, moment)"""
     env = dict(ENV)
     if delay:
         env["M2D_TEST_OUTPUT_DELAY"] = str(delay)
     before = gens(d) if os.path.isdir(d) else set()
-    ptr = os.path.join(d, ".m2d-set." + NAME)
+    ptr = os.path.join(d, ".m2d.set." + NAME)
     old = os.readlink(ptr) if os.path.islink(ptr) else None
     p = subprocess.Popen(command(args(d, which, level, summary), ranks), cwd=SRC, stdout=subprocess.PIPE if wait_for == "start" else subprocess.DEVNULL,
                          stderr=subprocess.PIPE, text=True, env=env)
@@ -184,7 +184,7 @@ def interrupted(d, which, ranks, sig, moment, level=2, delay=DELAY, summary=None
         return p.returncode, [l for l in err.splitlines() if l.strip()], "finished before the signal"
     time.sleep(moment)
     if ranks > 1 and sig == signal.SIGKILL:
-        os.kill(int(stage.split(".")[3]), sig)  # rank 0: .m2d-gen.<host>.<pid>.<k>.NAME
+        os.kill(int(stage.split(".")[4]), sig)  # rank 0: .m2d.gen.<host>.<pid>.<k>.NAME
     elif ranks > 1 and sig == signal.SIGTERM:  # as a batch system does: every rank
         with open("/proc/%d/task/%d/children" % (p.pid, p.pid)) as f:
             for pid in f.read().split():
@@ -196,7 +196,21 @@ def interrupted(d, which, ranks, sig, moment, level=2, delay=DELAY, summary=None
     except subprocess.TimeoutExpired:
         p.kill()
         return None, ["no exit within 120 s after the signal"], ""
+    wait_gone(int(stage.split(".")[4]) if stage else None)
     return p.returncode, [l for l in err.splitlines() if l.strip()], "%s + %.3f s" % (wait_for, moment)
+
+
+def wait_gone(pid, limit=20):
+    """mpiexec may exit before its ranks: wait until rank 0 has ended (zombie or gone)"""
+    t0 = time.time()
+    while pid and time.time() - t0 < limit:
+        try:
+            with open("/proc/%d/stat" % pid) as f:
+                if f.read().rsplit(")", 1)[1].split()[0] in "ZX":
+                    return
+        except OSError:
+            return
+        time.sleep(0.01)
 
 
 def check_interrupted(what, d, sig, ranks, rc, lines, prev, new, refs, summary=None):
@@ -257,7 +271,7 @@ p = subprocess.run([EXE, "-options_file", opts("hertz"), "-mesh", mesh("hertz_0"
                    cwd=SRC, capture_output=True, text=True, env=ENV)
 assert p.returncode == 0, p.stderr
 OTHER = sorted(n for n in os.listdir(D) if n not in ("notes.txt",))
-KEEP = set(OTHER) | {"notes.txt"} | {os.readlink(os.path.join(D, ".m2d-set.other"))}
+KEEP = set(OTHER) | {"notes.txt"} | {os.readlink(os.path.join(D, ".m2d.set.other"))}
 
 
 def neighbours():
