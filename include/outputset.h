@@ -10,7 +10,8 @@
  * reader sees no change), then switches .m2d.set.N with one rename(2).
  * Guarantee: at every instant, and after any interruption (signal, SIGKILL,
  * crash; files and directory are fsync'ed before the switch), the names in
- * DIR resolve to the complete previous set or the complete new set.  Files
+ * DIR resolve to the complete previous set or the complete new set (a reader
+ * that opens N.h5, then N.xmf, may still straddle a switch).  Files
  * of other -output_name values and other files in DIR are never touched.  A
  * name the new set does not write (N.vtu after -output_vtu 0) disappears.
  * A -summary file inside DIR is part of the set; one elsewhere is written to a
@@ -42,8 +43,9 @@ PetscErrorCode M2dOutputSetFile(M2dOutputSet set, const char *suffix, const char
 PetscErrorCode M2dOutputSetSummary(M2dOutputSet set, const char **path);
 /* The set's output name N (owned by the set). */
 const char *M2dOutputSetName(M2dOutputSet set);
-/* Put every file of the set in place at once (see above); on failure nothing
- * changes and the staging area is removed.  Collective; frees *set. */
+/* Put every file of the set in place at once (see above); on failure the
+ * names keep showing the previous set and the staging area is removed.
+ * Collective; frees *set. */
 PetscErrorCode M2dOutputSetCommit(M2dOutputSet *set);
 /* Remove the staging area and free *set (NULL: nothing).  Not collective: on
  * error paths any rank may call it (only rank 0 owns files). */
