@@ -1,15 +1,17 @@
 /* output.h - results for ParaView and for scripts.
  *
- * Rank 0 gathers the (small, 2D) mesh and fields and writes
- *   DIR/NAME.h5 + DIR/NAME.xmf   HDF5 with an XDMF description (ParaView: XDMF Reader)
- *   DIR/NAME.vtu                 VTK unstructured grid (raw appended binary)
+ * Rank 0 gathers the (small, 2D) mesh and fields and writes, into an output
+ * set (outputset.h: all files of a run replace the previous ones at once),
+ *   N.h5 + N.xmf   HDF5 with an XDMF description (ParaView: XDMF Reader)
+ *   N.vtu          VTK unstructured grid (raw appended binary)
  * with displacement as a 3-vector and every stress component as its own scalar
- * cell field.  Every file is written under a temporary name and renamed when
- * complete.  The JSON summary (-summary FILE) is a flat list of keys plus the
- * objects "time" and "error"; README.md documents the schema. */
+ * cell field.  Equal runs give byte-identical files (no time stamps inside).
+ * The JSON summary is in summary.h. */
 #ifndef M2D_OUTPUT_H
 #define M2D_OUTPUT_H
 #include "mesh.h"
+#include "outputset.h"
+#include "summary.h"
 
 #define M2D_MAX_FIELDS 16
 
@@ -26,24 +28,17 @@ typedef struct {
   PetscInt         stride, comp;
 } M2dCellField;
 
+/* Fields to write; names and vectors are borrowed (the caller keeps them). */
 typedef struct {
-  PetscInt   npoint, ncell;
+  PetscInt      npoint, ncell;
   M2dPointField point[M2D_MAX_FIELDS];
   M2dCellField  cell[M2D_MAX_FIELDS];
 } M2dFieldSet;
 
+/* Write N.vtu and/or N.h5 + N.xmf into the staging area of `set`.
+ * Collective on the mesh's communicator; errors raised on every rank. */
+PetscErrorCode OutputWriteSet(const M2dMesh *m, M2dOutputSet set, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs);
+/* Earlier form: the same files as a set of their own in dir (no CSV, no
+ * summary in it), committed before returning.  Collective. */
 PetscErrorCode OutputWrite(const M2dMesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs);
-
-/* ---- summary JSON ---- */
-#define M2D_MAX_SUMMARY 64
-typedef struct {
-  PetscInt n;
-  char     section[M2D_MAX_SUMMARY][16]; /* "" top level, else object name */
-  char     key[M2D_MAX_SUMMARY][48];
-  char     value[M2D_MAX_SUMMARY][256];  /* JSON text */
-} M2dSummary;
-void           SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v);
-void           SummaryInt(M2dSummary *s, const char *section, const char *key, PetscInt v);
-void           SummaryString(M2dSummary *s, const char *section, const char *key, const char *v);
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s);
 #endif

@@ -32,17 +32,16 @@ typedef struct {
  * Collective. */
 PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
 
-/* -output_dir and -summary writable (created if missing). Collective. */
-PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s);
 /* Fill sum with the run's figures (problem, path, contact results, the error
  * estimate (into fig->est and sol->eta, when eo->enabled), exact comparisons,
  * checks v) and print them. Leaves the interface results in pb->contact in
  * the user's units. Collective. */
 PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum);
-/* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV; the mesh's
- * coordinates are left in the user's units. Collective. */
-PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol);
+/* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV into the
+ * output set (outputset.h); the mesh's coordinates are left in the user's
+ * units. Collective. */
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutputSet set);
 /* Add the stage times (logging.h order, then the total) and write the JSON
  * summary (-summary). Collective. */
-PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[]);
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutputSet set);
 #endif

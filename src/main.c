@@ -48,7 +48,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   if (s.help) PetscFunctionReturn(DocumentOptions(comm, &s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
-  PetscCall(ReportCheckPaths(comm, &s));
+  PetscCall(OutputCheckPaths(comm, s.outdir, s.outname, s.summary, (PetscBool)(s.write_vtu || s.write_hdf5)));
   PetscCall(M2dStepSolve(comm, &s, NULL, NULL, &eo, &st));
   PetscCall(M2dStepWrite(&st));
   PetscCall(M2dStepDestroy(&st));
@@ -64,6 +64,7 @@ int main(int argc, char **argv)
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   ierr = M2dInstallErrorHandler();
+  if (!ierr) ierr = M2dInstallSignalHandlers();
   if (!ierr) ierr = Run(PETSC_COMM_WORLD);
   if (ierr) {
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -71,10 +72,13 @@ int main(int argc, char **argv)
     fflush(stderr);
     /* objects of the failed run are not freed; skip PETSc's leak report */
     PetscOptionsClearValue(NULL, "-malloc_dump");
+    M2dOutputSetAbortOpen();
+    M2dSignalsBeforeFinalize();
     PetscFinalize();
     return 1;
   }
   ierr = M2dRemoveErrorHandler();
+  ierr = M2dSignalsBeforeFinalize() || ierr;
   ierr = PetscFinalize() || ierr;
   return ierr ? 1 : 0;
 }

@@ -4,46 +4,6 @@
 #include "logging.h"
 #include "options.h"
 #include "util.h"
-#include <string.h>
-#include <sys/stat.h>
-
-/* the output directory and the summary path must be writable: checked before any work */
-PetscErrorCode ReportCheckPaths(MPI_Comm comm, const M2dScene *s)
-{
-  PetscMPIInt rank;
-  char        msg[1024] = "";
-  int         bad       = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0 && (s->write_vtu || s->write_hdf5)) {
-    char why[900];
-    if (M2dMakeDirs(s->outdir, why, sizeof(why))) {
-      snprintf(msg, sizeof(msg), "option -output_dir: %s", why);
-      bad = 1;
-    }
-  }
-  if (rank == 0 && !bad && s->summary[0]) { /* the summary's directory must exist or be creatable */
-    char        dir[PETSC_MAX_PATH_LEN], why[900];
-    struct stat st;
-    char       *slash;
-    PetscCall(PetscStrncpy(dir, s->summary, sizeof(dir)));
-    slash = strrchr(dir, '/');
-    if (stat(s->summary, &st) == 0 && S_ISDIR(st.st_mode)) {
-      snprintf(msg, sizeof(msg), "option -summary: '%s' is a directory", s->summary);
-      bad = 1;
-    } else if (slash && slash != dir) {
-      *slash = 0;
-      if (M2dMakeDirs(dir, why, sizeof(why))) {
-        snprintf(msg, sizeof(msg), "option -summary: %s", why);
-        bad = 1;
-      }
-    }
-  }
-  PetscCall(M2dCheckCollective(comm, bad ? PETSC_TRUE : PETSC_FALSE, msg));
-  PetscFunctionReturn(0);
-}
-
 
 /* stress, per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises, body (user units) */
 #define M2D_CELL_FIELDS 6
@@ -257,7 +217,7 @@ PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerifica
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol)
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutputSet set)
 {
   const M2dScene *s    = pb->user;
   MPI_Comm        comm = PetscObjectComm((PetscObject)pb->mesh.dm);
@@ -285,19 +245,18 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol)
     for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
   if (pb->has_contact && (s->write_vtu || s->write_hdf5)) {
-    char csv[PETSC_MAX_PATH_LEN];
-    PetscCall(PetscSNPrintf(csv, sizeof(csv), "%s/%s_contact.csv", s->outdir, s->outname));
+    const char *csv;
+    PetscCall(M2dOutputSetFile(set, "_contact.csv", &csv));
     PetscCall(ContactWriteCSV(comm, &pb->contact, csv));
   }
-  PetscCall(OutputWrite(&pb->mesh, s->outdir, s->outname, s->write_vtu, s->write_hdf5, &fs));
-  if (s->write_vtu || s->write_hdf5) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s->outdir, s->outname, s->write_hdf5 ? "h5,xmf" : "", s->write_hdf5 && s->write_vtu ? "," : "", s->write_vtu ? "vtu" : ""));
+  PetscCall(OutputWriteSet(&pb->mesh, set, s->write_vtu, s->write_hdf5, &fs));
   PetscCall(VecDestroy(&cfield));
   PetscCall(VecDestroy(&u));
   PetscCall(PetscFree(cells));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[])
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutputSet set)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)pb->mesh.dm);
 
@@ -305,6 +264,10 @@ PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const d
   for (int k = 0; k < M2D_STAGE_COUNT; k++) SummaryReal(sum, "time", M2dStageName[k], times[k]);
   SummaryReal(sum, "time", "total", times[M2D_STAGE_COUNT]);
   PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, contact %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * pb->mesh.nvert_global, times[0], times[1], times[2], times[3], times[4], times[5]));
-  PetscCall(SummaryWrite(comm, pb->user->summary, sum));
+  {
+    const char *path;
+    PetscCall(M2dOutputSetSummary(set, &path));
+    PetscCall(M2dSummaryWrite(comm, path, sum));
+  }
   PetscFunctionReturn(0);
 }

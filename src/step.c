@@ -44,16 +44,22 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
 
 PetscErrorCode M2dStepWrite(M2dStep *st)
 {
-  MPI_Comm comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
-  double   t0   = M2dWallTime();
+  MPI_Comm        comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
+  const M2dScene *s    = st->pb.user;
+  double          t0   = M2dWallTime();
+  M2dOutputSet    set  = NULL;
+  PetscBool       files = (PetscBool)(s->write_vtu || s->write_hdf5);
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
-  PetscCall(ReportWriteFields(&st->pb, &st->sol));
+  PetscCall(M2dOutputSetBegin(comm, s->outdir, s->outname, s->summary, files, &set));
+  PetscCall(ReportWriteFields(&st->pb, &st->sol, set));
   st->t[M2D_STAGE_OUTPUT] += M2dWallTime() - t0;
   st->t[M2D_STAGE_COUNT] += M2dWallTime() - t0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, st->t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
-  PetscCall(ReportWriteSummary(&st->pb, st->sum, st->t));
+  PetscCall(ReportWriteSummary(&st->pb, st->sum, st->t, set));
+  PetscCall(M2dOutputSetCommit(&set)); /* every file of the run, or none */
+  if (files) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s->outdir, s->outname, s->write_hdf5 ? "h5,xmf" : "", s->write_hdf5 && s->write_vtu ? "," : "", s->write_vtu ? "vtu" : ""));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
 }
@@ -61,6 +67,7 @@ PetscErrorCode M2dStepWrite(M2dStep *st)
 PetscErrorCode M2dStepDestroy(M2dStep *st)
 {
   PetscFunctionBeginUser;
+  if (st->sum) PetscCall(M2dSummaryDestroy(st->sum));
   PetscCall(PetscFree(st->sum));
   PetscCall(M2dSolutionDestroy(&st->sol));
   PetscCall(ProblemDestroy(&st->pb));

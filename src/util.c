@@ -1,12 +1,15 @@
 /* util.c - see util.h. */
 #include "util.h"
 #include <errno.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 static char first_error[4096];
-static int  have_error;
+static volatile sig_atomic_t have_error; /* read by the signal handler */
 
 static PetscErrorCode M2dErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
@@ -40,6 +43,11 @@ PetscErrorCode M2dRemoveErrorHandler(void)
   PetscFunctionBeginUser;
   PetscCall(PetscPopErrorHandler());
   PetscFunctionReturn(0);
+}
+
+PetscBool M2dHaveError(void)
+{
+  return have_error ? PETSC_TRUE : PETSC_FALSE;
 }
 
 const char *M2dFirstError(void)
@@ -105,46 +113,24 @@ int M2dMakeDirs(const char *path, char *msg, size_t len)
   return 0;
 }
 
-void M2dTmpName(const char *path, char *tmp, size_t len)
+PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char *fmt, ...)
 {
-  snprintf(tmp, len, "%s.tmp%d", path, (int)getpid());
-}
+  va_list ap;
+  int     n;
 
-PetscErrorCode M2dFileOpen(const char *path, M2dFile *f)
-{
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
-  M2dTmpName(path, f->tmp, sizeof(f->tmp));
-  f->fp = fopen(f->tmp, "wb");
-  PetscCheck(f->fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", f->final, strerror(errno));
+  va_start(ap, fmt);
+  n = vsnprintf(buf, len, fmt, ap);
+  va_end(ap);
+  PetscCheck(n >= 0 && (size_t)n < len, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "option %s: the path '%.60s...' is longer than %d characters", opt, buf, (int)len - 1);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dFileCommit(M2dFile *f)
+void M2dTestDelay(void)
 {
-  int bad;
-
-  PetscFunctionBeginUser;
-  bad   = ferror(f->fp);
-  bad   = fclose(f->fp) || bad;
-  f->fp = NULL;
-  if (bad) {
-    unlink(f->tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed: %s", f->final, strerror(errno));
-  }
-  if (rename(f->tmp, f->final)) {
-    int e = errno;
-    unlink(f->tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write output file '%s': %s", f->final, strerror(e));
-  }
-  PetscFunctionReturn(0);
-}
-
-void M2dFileAbort(M2dFile *f)
-{
-  if (f->fp) fclose(f->fp);
-  f->fp = NULL;
-  unlink(f->tmp);
+  const char *s = getenv("M2D_TEST_OUTPUT_DELAY");
+  double      t = s ? atof(s) : 0;
+  if (t > 0) usleep((useconds_t)(t * 1e6));
 }
 
 double M2dWallTime(void)
