@@ -103,3 +103,25 @@ for nu in ("0.49", "0.4999", "0.4999999", "0.499999999", "0.4999999999", "0.4999
                 check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: "), "nu = %s %s, %d rank(s): one line: %s" % (nu, integ, ranks, lines[-1] if lines else "(none)"))
                 outcome[ranks] = lines[0] if lines else "?"
         check(outcome[1] == outcome[2], "nu = %s %s: the same diagnosis on 1 and 2 ranks (%s)" % (nu, integ, outcome[1][:90]))
+
+# ---------------------------------------------------------------- 5. scenes users bring
+# the S2 patch test turned by 30 degrees, held by rollers along its inclined
+# edges (-dirichlet G:n) and checked in the turned frame (-exact_angle 30)
+for ranks in (1, 2):
+    s = solve("trust_incl_%d" % ranks, S2 + ["-mesh", mesh("patch_incl30"), "-dirichlet", "lower_bottom:n,lower_left:n,upper_left:n", "-exact_angle", "30"], ranks=ranks)
+    check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1e6 - 1) < 1e-10 and accepted(s),
+          "S2 turned by 30 degrees on inclined rollers, %d rank(s): exact to %.1e of p, force p x 1 m" % (ranks, patch_error(s)))
+# the same held tangentially on the upper body's left edge: nothing holds it along the edge
+rc, lines = one_line_error("trust_incl_t", S2 + ["-mesh", mesh("patch_incl30"), "-dirichlet", "lower_bottom:n,lower_left:n,upper_left:t", "-exact_angle", "30"], 1)
+check(rc == 1 and len(lines) == 1 and "body 'upper' is held by nothing" in lines[0], "upper left edge held only along itself (G:t): one line: %s" % (lines[-1] if lines else ""))
+# rollers along axis-parallel edges are the plain supports: same answer as x/y
+a = solve("trust_n_axis", S2 + ["-dirichlet", "lower_bottom:n,lower_origin:x,lower_left:n,upper_left:n"])
+check(patch_error(a) < 1e-10, "S2 with G:n rollers on axis-parallel edges: exact to %.1e" % patch_error(a))
+# two cylinders: Hertz with the effective radius R1 R2 / (R1 + R2)
+two = ["-options_file", opts("hertz_two"), "-mesh", mesh("hertz_two_2"), "-output_vtu", "0", "-contact_monitor", "0"]
+rc, out, err = run(two + ["-output_dir", workdir("trust_two")], check=False)
+check(rc == 0 and "effective radius R = R1 R2/(R1 + R2) = 0.666667" in out, "two cylinders R1 = 1, R2 = 2: the run states the effective radius")
+s = solve("trust_two", two)
+s1 = solve("trust_two_r1", two + ["-hertz_radius", "1"])
+check(s["pressure_l2_rel"] < 3e-2 and s1["pressure_l2_rel"] > 5 * s["pressure_l2_rel"] and abs(s["hertz_radius"] - 2 / 3) < 1e-12,
+      "two cylinders, level 2: pressure error %.2e against Hertz with R = 2/3 (%.2e with R1 alone)" % (s["pressure_l2_rel"], s1["pressure_l2_rel"]))
