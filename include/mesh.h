@@ -30,14 +30,18 @@ typedef struct {
   char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
 } M2dMesh;
 
-/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (coordinates times
- * s->mesh_scale) and builds *m; fills s->nbody and the body names when s->nbody
- * is 0. Bad input: one-line error on every rank, nothing left allocated. */
+/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh; coordinates
+ * times s->mesh_scale) or one .h5 file written by -mesh_save on every rank, and
+ * builds *m; fills s->nbody and the body names when s->nbody is 0; writes
+ * -mesh_save. Bad input: one-line error on every rank, nothing left allocated. */
 PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
 /* Collective on comm. As MeshCreate from nmsh meshes filled in memory on rank 0
  * (msh and nmsh ignored on other ranks; not modified; the caller frees them);
  * `what` names the source in error messages (e.g. "remeshed hertz.geo step 2"). */
 PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], PetscInt nmsh, const char *what, M2dMesh *m);
+/* Collective. Reads the mesh module's own options (-mesh_save: save[0] = 0 if
+ * not given); MeshCreate calls it, main in -help mode too, to document them. */
+PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len);
 /* Not collective. Frees what MeshCreate* allocated in *m (not m itself). */
 PetscErrorCode MeshDestroy(M2dMesh *m);
 /* Not collective. Dimension of a physical group, -1 if the mesh has none of that name. */

@@ -209,15 +209,16 @@ static PetscErrorCode GlobalSizes(M2dMesh *m)
 
 /* Every path ends here with a plex dm (taken), the body of each local cell by
  * point (pbody, taken) and label points lab[2k] = group, lab[2k+1] = point
- * (taken; NULL when dm already carries the labels). */
-PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab)
+ * (taken; NULL when dm already carries the labels); distribute: the PETSc
+ * partitioner may still distribute dm (-mesh_partitioner petsc). */
+PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
 {
   PetscMPIInt size;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(PetscObjectSetName((PetscObject)dm, "mesh"));
-  for (PetscInt g = 0; g < m->ngroup && lab; g++) {
+  for (PetscInt g = 0; g < m->ngroup; g++) { /* every group, even where it has no point */
     char lname[M2D_NAME_LEN + 8];
     LabelName(m->group[g], lname, sizeof(lname));
     PetscCall(DMCreateLabel(dm, lname));
@@ -235,7 +236,7 @@ PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, P
     PetscCall(DMPlexCheckGeometry(dm));
     if (size > 1) PetscCall(DMPlexCheckPointSF(dm, NULL, PETSC_FALSE));
   }
-  if (size > 1 && s->mesh_partitioner == M2D_PARTITIONER_PETSC) PetscCall(DistributeWithPetsc(s, &dm, &pbody));
+  if (distribute && size > 1 && s->mesh_partitioner == M2D_PARTITIONER_PETSC) PetscCall(DistributeWithPetsc(s, &dm, &pbody));
   m->dm = dm;
   PetscCall(DMPlexGetHeightStratum(dm, 0, &m->cStart, &m->cEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 1, &m->eStart, &m->eEnd));
@@ -291,7 +292,7 @@ static PetscErrorCode MeshBuild(MPI_Comm comm, M2dScene *s, const MeshSources *s
   if (rank == 0) MeshSkelFree(&sk);
   MeshListsFree(&L);
   PetscCall(ierr);
-  PetscCall(MeshFinish(comm, s, m, dm, pbody, lab, nlab));
+  PetscCall(MeshFinish(comm, s, m, dm, pbody, lab, nlab, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
@@ -327,7 +328,8 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
+/* the .msh files: read on rank 0, then the common path */
+static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
   PetscMPIInt rank;
   MshMesh     msh[2];
@@ -337,10 +339,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(m, sizeof(*m)));
-  PetscCall(RegisterEvents());
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCall(PetscMemzero(msh, sizeof(msh)));
   PetscCall(PetscSNPrintf(all, sizeof(all), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
   for (PetscInt f = 0; f < s->nmesh; f++) PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
@@ -357,6 +356,22 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   ierr      = MeshBuild(comm, s, &src, m);
   for (int f = 0; f < 2; f++) MshFree(&msh[f]);
   PetscCall(ierr);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
+{
+  char save[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(m, sizeof(*m)));
+  PetscCall(RegisterEvents());
+  PetscCall(MeshReadOptions(comm, save, sizeof(save)));
+  PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
+  PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
+  if (MeshIsHDF5(s->mesh[0])) PetscCall(MeshLoad(comm, s, s->mesh[0], m));
+  else PetscCall(CreateFromFiles(comm, s, m));
+  if (save[0]) PetscCall(MeshSave(m, s, save));
   PetscFunctionReturn(0);
 }
 

@@ -9,7 +9,8 @@
  *                      points, a DMPlex from local lists
  *   mesh_distribute.c  several ranks: METIS partition and the per-rank packages
  *   mesh_matrix.c      MeshCreateMatrix
- *   mesh_modes.c       MeshRigidBodyModes */
+ *   mesh_modes.c       MeshRigidBodyModes
+ *   mesh_h5.c          the mesh in PETSc's HDF5 format: -mesh_save, -mesh F.h5 */
 #ifndef M2D_MESH_IMPL_H
 #define M2D_MESH_IMPL_H
 #include "mesh.h"
@@ -82,5 +83,9 @@ PetscErrorCode MeshPlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, Pets
 PetscErrorCode MeshBuildDistributed(MPI_Comm comm, const MeshSkel *sk, const MeshLists *L, DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab);
 /* mesh.c: every path ends here with its plex (dm, pbody and lab taken; lab NULL
  * when dm already carries the labels "m2d:GROUP") */
-PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab);
+PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute);
+/* mesh_h5.c: PETSc's HDF5 format (-mesh F.h5, -mesh_save F.h5) */
+PetscBool      MeshIsHDF5(const char *path);
+PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m);
+PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
 #endif

@@ -11,7 +11,12 @@
    then both cells lie on the same side of their common edge), three cells on
    one edge, a strip wound over itself (every cell convex, the boundary crosses
    itself) - while the same strip wound without overlap runs;
- - non-positive element and node tags are refused naming the file and the tag.
+ - non-positive element and node tags are refused naming the file and the tag;
+ - -mesh_save F.h5 writes PETSc's HDF5 format and -mesh F.h5 reads it on every
+   rank (a truncated file, an HDF5 file that is no mesh refused in one line): S2 and Hertz level 2 give the answers of the .msh runs (displacement and
+   contact force to 1e-12) on 1 and 2 ranks, whether the file was written on 1 or
+   2 ranks; the group names and dimensions and the body names are in the file;
+   -bodies may reorder the saved bodies.
 Refusals: exit 1, exactly one "mortar2d: error:" line."""
 import math
 import os
@@ -218,4 +223,54 @@ for ranks in (1, 2):
 apart = write("spiral_apart.msh", spiral(1.3, 0.7))
 s = solve("mesh_input/spiral_apart", BLOCK + ["-mesh", apart, "-pressure", "top:1e3"])
 check(s["cells"] == 60, "the same strip wound without overlap runs (%d cells)" % s["cells"])
+
+# ---------------------------------------------------------------- -mesh_save / -mesh F.h5
+import h5py
+
+
+def fields(tag):
+    return sorted_fields(workdir(tag) + "/sol.h5")[0]["displacement"]
+
+
+HERTZ = ["-options_file", opts("hertz"), "-output_vtu", "0", "-output_name", "sol"]
+for name, base, msh in (("s2", S2, mesh("patch_uniform")), ("hertz2", HERTZ, mesh("hertz_2"))):
+    ref = {r: solve("mesh_input/%s_msh_%d" % (name, r), base + ["-mesh", msh], ranks=r) for r in (1, 2)}
+    saved = {}
+    for w in (1, 2):  # written on 1 and on 2 ranks
+        saved[w] = os.path.join(W, "%s_saved_on_%d.h5" % (name, w))
+        s = solve("mesh_input/%s_save_%d" % (name, w), base + ["-mesh", msh, "-mesh_save", saved[w]], ranks=w)
+        check(os.path.exists(saved[w]) and not [f for f in os.listdir(W) if ".tmp" in f] and abs(s["contact_force"] / ref[w]["contact_force"] - 1) < 1e-12,
+              "%s: -mesh_save on %d rank(s) writes %s (no temporary file left, the run's answer unchanged)" % (name, w, os.path.basename(saved[w])))
+        for r in (1, 2):
+            tag = "mesh_input/%s_h5_%d_%d" % (name, w, r)
+            s = solve(tag, base + ["-mesh", saved[w]], ranks=r)
+            u0, u1 = fields("mesh_input/%s_msh_%d" % (name, r)), fields(tag)
+            du = np.abs(u1 - u0).max() / np.abs(u0).max()
+            df = abs(s["contact_force"] / ref[r]["contact_force"] - 1)
+            check(s["dofs"] == ref[r]["dofs"] and s["cells"] == ref[r]["cells"] and du < 1e-12 and df < 1e-12,
+                  "%s: saved on %d rank(s), read on %d: displacement %.1e, contact force %.1e of the .msh run" % (name, w, r, du, df))
+    with h5py.File(saved[2], "r") as f:
+        a = f["m2d"].attrs
+        groups = {a["group%d" % g].decode() if isinstance(a["group%d" % g], bytes) else str(a["group%d" % g]): int(a["groupdim%d" % g]) for g in range(int(a["ngroup"]))}
+        bodies = [a["body%d" % b].decode() if isinstance(a["body%d" % b], bytes) else str(a["body%d" % b]) for b in range(int(a["nbody"]))]
+    want = {}
+    for line in open(msh).read().split("$PhysicalNames")[1].split("$EndPhysicalNames")[0].strip().split("\n")[1:]:
+        dim, tag, nm = line.split(" ", 2)
+        want[nm.strip('"')] = int(dim)
+    check(groups == want and set(bodies) == {n for n, d in want.items() if d == 2},
+          "%s: the file keeps every group with its dimension (%d groups) and the bodies %s" % (name, len(groups), bodies))
+
+s2h5 = os.path.join(W, "s2_saved_on_1.h5")
+a = solve("mesh_input/s2_h5_order", S2 + ["-mesh", s2h5, "-bodies", "upper,lower", "-upper_E", "2e9"])
+b = solve("mesh_input/s2_msh_order", S2 + ["-bodies", "upper,lower", "-upper_E", "2e9"])
+ua, ub = fields("mesh_input/s2_h5_order"), fields("mesh_input/s2_msh_order")
+check(np.abs(ua - ub).max() / np.abs(ub).max() < 1e-12, "-bodies upper,lower (the saved order reversed) with -upper_E 2e9: the .msh answer")
+refused("an HDF5 file that is not a mesh", S2 + ["-mesh", workdir("mesh_input/s2_msh_1") + "/sol.h5"], ["sol.h5", "holds no mortar2d mesh"], 2)
+refused("a .h5 that is not HDF5", S2 + ["-mesh", write("not_hdf5.h5", PATCH)], ["not_hdf5.h5", "not an HDF5 file"])
+trunc = os.path.join(W, "s2_truncated.h5")
+with open(s2h5, "rb") as f, open(trunc, "wb") as g:
+    g.write(f.read()[: os.path.getsize(s2h5) * 2 // 3])
+for ranks in (1, 2):
+    refused("a truncated .h5 mesh", S2 + ["-mesh", trunc], [trunc, "truncated or corrupted"], ranks)
+refused("-bodies naming a body the .h5 lacks", S2 + ["-mesh", s2h5, "-bodies", "lower,nosuch"], [s2h5, "-bodies", "nosuch"], 2)
 print("all mesh input checks passed")
