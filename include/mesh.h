@@ -1,16 +1,18 @@
-/* mesh.h - the two (or more) bodies in one distributed DMPlex.
+/* mesh.h - the bodies in one distributed DMPlex.
  *
- * Rank 0 reads the .msh file(s) with the strict reader (msh.h), validates them
- * (quads only, positive corner Jacobians, every physical name the options ask
- * for), merges the files, and builds the interpolated DMPlex from the cell
- * list (its own edge finder: DMPlexCreateFromDAG, no DMPlexInterpolate).
- * Each physical curve or point becomes a DMLabel "m2d:NAME" (value 1) on edges
- * or vertices. The plex is distributed (libmetis partition by default); the
- * body index of each cell travels along the migration SF (no label). One
- * vertex carries the 2 displacement dofs. */
+ * Rank 0 reads the .msh file(s) with the strict reader (msh.h) - or takes an
+ * MshMesh filled in memory (MeshCreateFromMsh) -, merges them, reorients
+ * clockwise quads, refuses degenerate or non-convex quads and overlapping cells,
+ * checks every physical name the options ask for, and builds the interpolated
+ * DMPlex from the cell list (its own edge finder: DMPlexCreateFromDAG, no
+ * DMPlexInterpolate). Each physical curve or point becomes a DMLabel "m2d:NAME"
+ * (value 1) on edges or vertices. On several ranks libmetis splits the cells on
+ * rank 0 and every rank builds its own part (-mesh_partitioner petsc:
+ * DMPlexDistribute instead). One vertex carries the 2 displacement dofs. */
 #ifndef M2D_MESH_H
 #define M2D_MESH_H
 #include <petscdmplex.h>
+#include "msh.h"
 #include "scene.h"
 
 #define M2D_MAX_GROUPS 256
@@ -28,18 +30,38 @@ typedef struct {
   char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
 } M2dMesh;
 
+/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh; coordinates
+ * times s->mesh_scale) or one .h5 file written by -mesh_save on every rank, and
+ * builds *m; fills s->nbody and the body names when s->nbody is 0; writes
+ * -mesh_save. Bad input: one-line error on every rank, nothing left allocated. */
 PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
+/* Collective on comm. As MeshCreate from nmsh meshes filled in memory on rank 0
+ * (msh and nmsh ignored on other ranks; not modified; the caller frees them);
+ * `what` names the source in error messages (e.g. "remeshed hertz.geo step 2"). */
+PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], PetscInt nmsh, const char *what, M2dMesh *m);
+/* Collective. Reads the mesh module's own options (-mesh_save: save[0] = 0 if
+ * not given); MeshCreate calls it, main in -help mode too, to document them. */
+PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len);
+/* Not collective. Frees what MeshCreate* allocated in *m (not m itself). */
 PetscErrorCode MeshDestroy(M2dMesh *m);
-/* dimension of a physical group, -1 if the mesh has none of that name */
+/* Not collective. Dimension of a physical group, -1 if the mesh has none of that name. */
 PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
-/* Local points of a group: for curves the edges, for points the vertices.
+/* Not collective (errors are, as every rank has the same groups). Local points
+ * of a group: edges for curves, vertices for points; the caller destroys *is.
  * Errors with a message naming `option` if the group does not exist. */
-/* the stiffness matrix: AIJ, preallocated from the cells, local-to-global map
- * of the DM; plus the couplings within each of the ngrp groups of global dofs
- * gdofs[gptr[j] .. gptr[j+1]-1] (the contact rows: K + g C^T C then keeps K's
- * pattern), stored as explicit zeros. ngrp may be 0. */
-PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
 PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
-/* Cell coordinates, counter-clockwise: xy[8] */
+/* Collective. The stiffness matrix K (AIJ, block size 1, the DM's
+ * local-to-global map), preallocated from the cells, plus the couplings within
+ * each of the ngrp groups of global dofs gdofs[gptr[j] .. gptr[j+1]-1] (the
+ * contact rows: K + g C^T C then keeps K's pattern), stored as explicit zeros.
+ * ngrp may be 0. The caller destroys *K. */
+PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
+/* Collective. The rigid-body modes of every body (2 translations and the
+ * rotation about the body's centroid; bodies sharing vertices count as one) in
+ * the DM's global dof layout, orthonormalised: the near-null space of K. The
+ * caller destroys *sp. */
+PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, MatNullSpace *sp);
+/* Not collective. Cell c's corner coordinates, counter-clockwise, into xy[8]
+ * (a: the local coordinate array, csec: the coordinate section). */
 void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);
 #endif

@@ -5,8 +5,9 @@
  * physical points (we need them for point supports), stops on node tags repeated
  * across two files, and a corrupted file can take it past its buffers.  This one
  * checks every count and index against the file size and the node table and
- * reports the file, line (binary: byte) and section at fault.  The DMPlex is then built from
- * the cell list it returns (mesh.c). Plain C, no PETSc: unit-testable alone. */
+ * reports the file, line (binary: byte) and section at fault.  The DMPlex is then
+ * built from the lists it returns (mesh.h: MeshCreate, or MeshCreateFromMsh for
+ * an MshMesh filled in memory). Plain C, no PETSc: unit-testable alone. */
 #ifndef M2D_MSH_H
 #define M2D_MSH_H
 #include <stddef.h>
@@ -17,12 +18,15 @@ typedef struct {
   char name[128];
 } MshPhysical;
 
+/* One mesh file's content; every array is malloc'ed (MshFree frees them all).
+ * Node indices (quad, line, point) are 0-based positions in xy. Fields added
+ * later must mean "absent" when zero. */
 typedef struct {
   long    nnode;
-  double *xy;      /* 2 per node; nodes numbered 0..nnode-1 in file order */
+  double *xy;      /* 2 per node; nodes numbered 0..nnode-1 in file order (z dropped: checked constant) */
   long    nquad;
-  long   *quad;    /* 4 node indices per quad, as in the file */
-  long   *quadtag; /* element tag per quad (for messages) */
+  long   *quad;    /* 4 node indices per quad, as in the file (either orientation) */
+  long   *quadtag; /* element tag per quad (for messages; NULL: the quad's position + 1) */
   int    *quadphys;/* physical surface tag of each quad, -1 if none */
   long    nline;   /* (line, physical tag) pairs: a line in two groups appears twice */
   long   *line;    /* 2 node indices per pair */
@@ -34,9 +38,14 @@ typedef struct {
   MshPhysical *phys;
 } MshMesh;
 
-/* Returns 0 on success; otherwise fills err with one line naming the file,
- * line and what is wrong, and returns nonzero. Always leaves m freeable. */
+/* Read the file at path into m (not collective: plain C). Returns 0 on success;
+ * otherwise writes ONE line into err naming the file, line (binary: byte),
+ * section and fault, and returns nonzero. Refuses: counts the file cannot hold,
+ * unknown or repeated node tags, tags <= 0, z not constant, elements other than
+ * 4-node quads, 2-node lines and points. Either way m is left for MshFree. */
 int  MshRead(const char *path, MshMesh *m, char *err, size_t errlen);
+/* Free every array of m and zero it (m itself is the caller's). */
 void MshFree(MshMesh *m);
-const char *MshPhysicalName(const MshMesh *m, int dim, int tag); /* NULL if unnamed */
+/* Name of the physical group (dim, tag) of m, NULL if unnamed; points into m. */
+const char *MshPhysicalName(const MshMesh *m, int dim, int tag);
 #endif

@@ -8,6 +8,8 @@
 //   gmsh -2 -format msh41 -setnumber body 1 patch_uniform.geo -o lower.msh
 // `gap` lifts the upper body by that much (before the rotation): an initial gap
 // (negative: an initial penetration). `shift` moves the upper body along x.
+// `clockwise` 1 runs both curve loops clockwise: gmsh then writes every quad
+// clockwise (as many real .geo files do), the same mesh otherwise.
 DefineConstant[
   nl    = {10, Min 1, Step 1, Name "Parameters/nl"},
   nu    = {7,  Min 1, Step 1, Name "Parameters/nu"},
@@ -16,7 +18,8 @@ DefineConstant[
            Name "Parameters/body"},
   angle = {0,  Name "Parameters/angle"},
   gap   = {0,  Name "Parameters/gap"},
-  shift = {0,  Name "Parameters/shift"}
+  shift = {0,  Name "Parameters/shift"},
+  clockwise = {0, Choices {0, 1}, Name "Parameters/clockwise"}
 ];
 
 Mesh.SaveAll = 0;
@@ -36,7 +39,11 @@ If (body != 2)
   Line(2) = {2, 3};  // right
   Line(3) = {3, 4};  // top (contact)
   Line(4) = {4, 1};  // left
-  Curve Loop(1) = {1, 2, 3, 4};
+  If (clockwise)
+    Curve Loop(1) = {-4, -3, -2, -1};
+  Else
+    Curve Loop(1) = {1, 2, 3, 4};
+  EndIf
   Plane Surface(1) = {1};
   Transfinite Curve{1, 3} = nl + 1;
   Transfinite Curve{2, 4} = ny + 1;
@@ -66,7 +73,11 @@ If (body != 1)
   Line(12) = {12, 13};  // right
   Line(13) = {13, 14};  // top
   Line(14) = {14, 11};  // left
-  Curve Loop(2) = {11, 12, 13, 14};
+  If (clockwise)
+    Curve Loop(2) = {-14, -13, -12, -11};
+  Else
+    Curve Loop(2) = {11, 12, 13, 14};
+  EndIf
   Plane Surface(2) = {2};
   Transfinite Curve{11, 13} = nu + 1;
   Transfinite Curve{12, 14} = ny + 1;

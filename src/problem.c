@@ -64,8 +64,8 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(pb, sizeof(*pb)));
   pb->user = user;
-  PetscCheck(!msh && !what, comm, PETSC_ERR_SUP, "meshes in memory: not yet"); /* MeshCreateFromMsh comes with the mesh module's split */
-  PetscCall(MeshCreate(comm, user, &pb->mesh));
+  if (what) PetscCall(MeshCreateFromMsh(comm, user, msh, 1, what, &pb->mesh));
+  else PetscCall(MeshCreate(comm, user, &pb->mesh));
   PetscCall(SceneReadMaterials(comm, user));
   PetscCall(SceneCheckOptions(comm, user)); /* typos of the per-body options */
   PetscCall(CheckMaterials(comm, user));

@@ -128,8 +128,8 @@ $EndElements
 mixed = write("mixed.msh", BLOCK.replace("6 33 1 33\n", "7 34 1 34\n").replace("2 1 3 16\n", "2 1 3 15\n")
               .replace("33 25 10 3 11 \n", "2 1 2 2\n33 25 10 3\n34 25 3 11\n"))
 assert open(mixed).read() != BLOCK and "2 1 2 2\n" in open(mixed).read()
-# quad 18 (nodes 1 5 17 16) listed clockwise
-inverted = edit("inverted.msh", "\n18 1 5 17 16 \n", "\n18 16 17 5 1 \n")
+# node 17 (0.25, 0.25) moved across its neighbour at (0.5, 0.25): the quads around it fold
+folded = edit("folded.msh", "0.2499999999998183 0.2500000000006331 0\n", "0.6 0.2500000000006331 0\n")
 # node 17 moved onto node 1 (0,0): quad 18 = (0,0),(0.25,0),(0,0),(0,0.25) has zero area
 zero = edit("zero_area.msh", "0.2499999999998183 0.2500000000006331 0\n", "0 0 0\n")
 truncated = write("truncated.msh", BLOCK[: len(BLOCK) // 2])
@@ -147,7 +147,7 @@ CASES = [
     ("-bodies names a missing group", ["-bodies", "nosuch"], ["-bodies", "nosuch"], (1, 2)),
     ("triangles (msh 2.2)", ["-mesh", tri], [tri, "triangle"], (1,)),
     ("mixed triangles and quads (msh 4.1)", ["-mesh", mixed], [mixed, "triangle"], (1, 2)),
-    ("inverted (clockwise) quad", ["-mesh", inverted], [inverted, "inverted"], (1,)),
+    ("node moved across its neighbour (folded quads)", ["-mesh", folded], [folded, "non-convex"], (1, 2)),
     ("zero-area quad", ["-mesh", zero], [zero, "zero area"], (1,)),
     ("-block_E -1", ["-block_E", "-1"], ["-block_E"], (1, 2)),
     ("-block_E 0", ["-block_E", "0"], ["-block_E"], (1,)),
