@@ -7,12 +7,13 @@
 #include "util.h"
 #include <string.h>
 
-PetscLogEvent M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
+PetscLogEvent M2D_EV_MESH_CREATE, M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
 
 static PetscErrorCode RegisterEvents(void)
 {
   PetscFunctionBeginUser;
   if (M2D_EV_MESH_READ) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventRegister("M2dMeshCreate", DM_CLASSID, &M2D_EV_MESH_CREATE));
   PetscCall(PetscLogEventRegister("M2dMeshRead", DM_CLASSID, &M2D_EV_MESH_READ));
   PetscCall(PetscLogEventRegister("M2dMeshEdges", DM_CLASSID, &M2D_EV_MESH_EDGES));
   PetscCall(PetscLogEventRegister("M2dMeshPartition", DM_CLASSID, &M2D_EV_MESH_PARTITION));
@@ -79,7 +80,8 @@ static PetscErrorCode BuildPlex(MPI_Comm comm, const M2dScene *s, const MeshSkel
   PetscFunctionReturn(0);
 }
 
-/* PETSc's partitioner (-mesh_partitioner petsc): DMPlexDistribute, the bodies along its migration SF */
+/* PETSc's partitioner (-mesh_partitioner petsc, .h5 meshes): DMPlexDistribute, the
+ * bodies along its migration SF (cheaper than a label) */
 static PetscErrorCode DistributeWithPetsc(const M2dScene *s, DM *dm, PetscInt **pbody)
 {
   DM               dist = NULL;
@@ -87,9 +89,11 @@ static PetscErrorCode DistributeWithPetsc(const M2dScene *s, DM *dm, PetscInt **
   PetscPartitioner part;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
   PetscCall(DMPlexGetPartitioner(*dm, &part));
   PetscCall(PetscPartitionerSetFromOptions(part));
   PetscCall(DMPlexDistribute(*dm, 0, &mig, &dist));
+  PetscCall(PetscLogEventEnd(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
   if (dist) {
     PetscInt pStart, pEnd, *nb;
     PetscCall(DMPlexGetChart(dist, &pStart, &pEnd));
@@ -209,8 +213,8 @@ static PetscErrorCode GlobalSizes(M2dMesh *m)
 
 /* Every path ends here with a plex dm (taken), the body of each local cell by
  * point (pbody, taken) and label points lab[2k] = group, lab[2k+1] = point
- * (taken; NULL when dm already carries the labels); distribute: the PETSc
- * partitioner may still distribute dm (-mesh_partitioner petsc). */
+ * (taken; NULL when dm already carries the labels); distribute: PETSc's
+ * partitioner distributes dm on several ranks. */
 PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
 {
   PetscMPIInt size;
@@ -236,7 +240,7 @@ PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, P
     PetscCall(DMPlexCheckGeometry(dm));
     if (size > 1) PetscCall(DMPlexCheckPointSF(dm, NULL, PETSC_FALSE));
   }
-  if (distribute && size > 1 && s->mesh_partitioner == M2D_PARTITIONER_PETSC) PetscCall(DistributeWithPetsc(s, &dm, &pbody));
+  if (distribute && size > 1) PetscCall(DistributeWithPetsc(s, &dm, &pbody));
   m->dm = dm;
   PetscCall(DMPlexGetHeightStratum(dm, 0, &m->cStart, &m->cEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 1, &m->eStart, &m->eEnd));
@@ -292,7 +296,7 @@ static PetscErrorCode MeshBuild(MPI_Comm comm, M2dScene *s, const MeshSources *s
   if (rank == 0) MeshSkelFree(&sk);
   MeshListsFree(&L);
   PetscCall(ierr);
-  PetscCall(MeshFinish(comm, s, m, dm, pbody, lab, nlab, PETSC_TRUE));
+  PetscCall(MeshFinish(comm, s, m, dm, pbody, lab, nlab, (PetscBool)(s->mesh_partitioner == M2D_PARTITIONER_PETSC)));
   PetscFunctionReturn(0);
 }
 
@@ -369,8 +373,10 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(MeshReadOptions(comm, save, sizeof(save)));
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
+  PetscCall(PetscLogEventBegin(M2D_EV_MESH_CREATE, 0, 0, 0, 0));
   if (MeshIsHDF5(s->mesh[0])) PetscCall(MeshLoad(comm, s, s->mesh[0], m));
   else PetscCall(CreateFromFiles(comm, s, m));
+  PetscCall(PetscLogEventEnd(M2D_EV_MESH_CREATE, 0, 0, 0, 0));
   if (save[0]) PetscCall(MeshSave(m, s, save));
   PetscFunctionReturn(0);
 }

@@ -4,7 +4,8 @@
  * body of each cell as the cell label "m2d:body" and, as attributes of the
  * group /m2d, the names and dimensions of the physical groups and the body
  * names. -mesh F.h5 loads it on every rank at once (DMLoad: each rank reads a
- * slice) and lets DMPlexDistribute balance it: no rank reads the whole mesh. */
+ * slice; the bodies leave their label before MeshFinish's DMPlexDistribute
+ * balances it): no rank reads the whole mesh. */
 #include "mesh_impl.h"
 #include <petscviewerhdf5.h>
 #include "util.h"
@@ -229,14 +230,13 @@ static PetscErrorCode LoadPlex(MPI_Comm comm, const char *path, M2dScene *s, M2d
 
 PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m)
 {
-  PetscMPIInt size, rank;
+  PetscMPIInt rank;
   DM          dm;
   PetscInt   *pbody, bmap[M2D_MAX_BODIES];
   char        err[M2D_ERR_LEN] = "", saved[M2D_MAX_BODIES][M2D_NAME_LEN];
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscStrncpy(m->files, path, sizeof(m->files)));
   for (PetscInt b = 0; b < M2D_MAX_BODIES; b++) bmap[b] = -1, saved[b][0] = 0;
@@ -245,22 +245,9 @@ PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m
   PetscCall(PetscLogEventBegin(M2D_EV_MESH_READ, 0, 0, 0, 0));
   PetscCall(LoadPlex(comm, path, s, m, bmap, saved, &dm));
   PetscCall(PetscLogEventEnd(M2D_EV_MESH_READ, 0, 0, 0, 0));
-  if (size > 1) { /* DMLoad gave every rank a slice of the file: balance it */
-    DM               dist = NULL;
-    PetscPartitioner part;
-    PetscCall(PetscLogEventBegin(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
-    PetscCall(DMPlexGetPartitioner(dm, &part));
-    PetscCall(PetscPartitionerSetFromOptions(part));
-    PetscCall(DMPlexDistribute(dm, 0, NULL, &dist));
-    PetscCall(PetscLogEventEnd(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
-    if (dist) {
-      PetscCall(DMDestroy(&dm));
-      dm = dist;
-    }
-  }
   ierr = BodiesFromLabel(dm, path, bmap, saved, &pbody);
   if (ierr) PetscCall(DMDestroy(&dm));
   PetscCall(ierr);
-  PetscCall(MeshFinish(comm, s, m, dm, pbody, NULL, 0, PETSC_FALSE));
+  PetscCall(MeshFinish(comm, s, m, dm, pbody, NULL, 0, PETSC_TRUE)); /* DMLoad gave every rank a slice of the file: balanced there */
   PetscFunctionReturn(0);
 }

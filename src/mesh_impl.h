@@ -16,8 +16,8 @@
 #include "mesh.h"
 #include <petscsf.h>
 
-/* phases of the mesh stage (-log_view), registered by MeshCreateFromMsh */
-extern PetscLogEvent M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
+/* phases of the mesh stage (-log_view; MeshCreate: the whole of it), registered by MeshCreate* */
+extern PetscLogEvent M2D_EV_MESH_CREATE, M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
 
 #define M2D_ERR_LEN 2048
 
@@ -82,7 +82,8 @@ PetscErrorCode MeshPlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, Pets
  * (pbody, indexed by point, -1 off cells) and its label points (group, point) */
 PetscErrorCode MeshBuildDistributed(MPI_Comm comm, const MeshSkel *sk, const MeshLists *L, DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab);
 /* mesh.c: every path ends here with its plex (dm, pbody and lab taken; lab NULL
- * when dm already carries the labels "m2d:GROUP") */
+ * when dm already carries the labels "m2d:GROUP"; distribute: with PETSc's
+ * partitioner on several ranks) */
 PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute);
 /* mesh_h5.c: PETSc's HDF5 format (-mesh F.h5, -mesh_save F.h5) */
 PetscBool      MeshIsHDF5(const char *path);

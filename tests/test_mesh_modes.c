@@ -1,4 +1,8 @@
-/* Unit test of MeshRigidBodyModes (mesh.h): on the S2 patch mesh (two bodies)
+/* Unit tests of MeshCreateFromMsh and MeshRigidBodyModes (mesh.h).
+ * MeshCreateFromMsh: the S2 mesh read with MshRead and handed over in memory
+ * (element tags dropped) gives the mesh MeshCreate gives; a node index out of
+ * range is refused with a message naming the source (`what`).
+ * MeshRigidBodyModes: on the S2 patch mesh (two bodies)
  * and on Hertz level 0, K assembled by ElasticityAssemble (before any Dirichlet
  * row) maps each of the 3 modes per body to zero to round-off; the modes are
  * orthonormal; a strained field (u = (x^2, x y)) is not mapped to zero, so the
@@ -8,6 +12,8 @@
 #include "mesh.h"
 #include "scene.h"
 #include "util.h"
+#include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 
@@ -96,6 +102,45 @@ static PetscErrorCode CheckModes(const char *opts, const char *mesh, PetscInt nb
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode CheckFromMsh(void)
+{
+  MPI_Comm    comm = PETSC_COMM_WORLD;
+  char        buf[4 * PETSC_MAX_PATH_LEN], err[1024] = "";
+  M2dScene    s;
+  M2dMesh     a, b;
+  MshMesh     msh;
+  PetscMPIInt rank;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscSNPrintf(buf, sizeof(buf), "-options_file %s/options/patch_uniform.opts -mesh %s/patch_uniform.msh", getenv("M2D_SOURCE"), getenv("M2D_MESHES")));
+  PetscCall(PetscOptionsInsertString(NULL, buf));
+  PetscCall(PetscMemzero(&s, sizeof(s)));
+  PetscCall(SceneReadOptions(comm, &s));
+  PetscCall(MeshCreate(comm, &s, &a));
+  PetscCall(PetscMemzero(&msh, sizeof(msh)));
+  if (rank == 0) {
+    CHECK(MshRead(s.mesh[0], &msh, err, sizeof(err)) == 0, "MshRead %s", err);
+    free(msh.quadtag); /* optional: messages then count quads from 1 */
+    msh.quadtag = NULL;
+  }
+  PetscCall(MeshCreateFromMsh(comm, &s, &msh, 1, "in-memory S2", &b));
+  CHECK(a.ncell_global == b.ncell_global && a.nvert_global == b.nvert_global && a.ngroup == b.ngroup && !strcmp(b.files, "in-memory S2"),
+        "MeshCreateFromMsh: %" PetscInt_FMT " cells, %" PetscInt_FMT " vertices, %" PetscInt_FMT " groups, as MeshCreate", b.ncell_global, b.nvert_global, b.ngroup);
+  PetscCall(MeshDestroy(&b));
+  if (rank == 0) msh.quad[4 * 3 + 2] = msh.nnode + 5;
+  M2dClearError();
+  PetscCall(M2dInstallErrorHandler());
+  ierr = MeshCreateFromMsh(comm, &s, &msh, 1, "in-memory S2", &b);
+  PetscCall(M2dRemoveErrorHandler());
+  CHECK(ierr == PETSC_ERR_USER_INPUT && strstr(M2dFirstError(), "mesh 'in-memory S2': quadrilateral 4 uses node index"), "MeshCreateFromMsh: a node index out of range refused on every rank: %s", M2dFirstError());
+  if (rank == 0) MshFree(&msh);
+  PetscCall(MeshDestroy(&a));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   PetscMPIInt rank;
@@ -106,6 +151,7 @@ int main(int argc, char **argv)
     printf("FAIL M2D_SOURCE and M2D_MESHES must be set\n");
     return 1;
   }
+  PetscCall(CheckFromMsh());
   PetscCall(CheckModes("patch_uniform", "patch_uniform", 2));
   PetscCall(CheckModes("hertz", "hertz_0", 2));
   PetscCall(CheckModes("block", "block_8", 1));
