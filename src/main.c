@@ -30,6 +30,10 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
     PetscCall(PetscStrncpy(s->body[0].name, "BODY", sizeof(s->body[0].name)));
   }
   PetscCall(SceneReadMaterials(comm, s));
+  {
+    char save[PETSC_MAX_PATH_LEN];
+    PetscCall(MeshReadOptions(comm, save, sizeof(save)));
+  }
   PetscCall(M2dSolverChoosePath(comm, s, &path));
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
@@ -47,6 +51,10 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(SceneReadOptions(comm, &s));
   if (s.help) PetscFunctionReturn(DocumentOptions(comm, &s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
+  {
+    char save[PETSC_MAX_PATH_LEN];
+    PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the check; MeshCreate reads it again */
+  }
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
   PetscCall(OutputCheckPaths(comm, s.outdir, s.outname, s.summary, (PetscBool)(s.write_vtu || s.write_hdf5)));
   PetscCall(M2dStepSolve(comm, &s, NULL, NULL, &eo, &st));

@@ -6,6 +6,7 @@
  * names. -mesh F.h5 loads it on every rank at once (DMLoad: each rank reads a
  * slice; the bodies leave their label before MeshFinish's DMPlexDistribute
  * balances it): no rank reads the whole mesh. */
+#include "options.h"
 #include "mesh_impl.h"
 #include <petscviewerhdf5.h>
 #include "util.h"
@@ -22,8 +23,9 @@ PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len)
   PetscFunctionBeginUser;
   save[0] = 0;
   PetscOptionsBegin(comm, NULL, "mortar2d mesh output", NULL);
-  PetscCall(PetscOptionsString("-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5 format; read back with -mesh F.h5)", "", save, save, len, NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5 format; read back with -mesh F.h5)", save, len, NULL));
   PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
   PetscFunctionReturn(0);
 }
 
