@@ -14,15 +14,20 @@
 #define M2D_ADAPT_H
 #include "report.h"
 
+#define M2D_ADAPT_MAX_STEPS   32
+#define M2D_ADAPT_MAX_NUMBERS 16
+
 typedef struct {
   PetscBool enabled;   /* -adapt */
   PetscReal target;    /* -adapt_target: stop when the relative estimate is below */
   PetscInt  max_steps; /* -adapt_max_steps */
   PetscInt  max_dofs;  /* -adapt_max_dofs: stop before a mesh would exceed it */
   PetscInt  quads;     /* -adapt_quads (M2dRemeshQuads) */
+  PetscInt  goal;      /* -adapt_goal: 0 energy, 1 contact */
+  PetscReal grading;   /* -adapt_grading: largest growth of the size per element */
   PetscInt  nnumber;   /* -geo_setnumber NAME=VALUE,...: parameters of the .geo */
-  char      number_name[16][64];
-  PetscReal number_value[16];
+  char      number_name[M2D_ADAPT_MAX_NUMBERS][64];
+  PetscReal number_value[M2D_ADAPT_MAX_NUMBERS];
 } M2dAdaptOptions;
 
 /* Read the -adapt* and -geo_setnumber options. Collective. */

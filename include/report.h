@@ -17,6 +17,8 @@ typedef struct {
   PetscBool          enabled;  /* -error_estimate */
   M2dRecovery        recovery; /* -estimator_recovery */
   M2dSizeFieldParams size;     /* -estimator_target, -estimator_order_sing */
+  PetscBool          target_set; /* -estimator_target given */
+  PetscBool          goal_contact; /* -adapt_goal contact: sizes from the pressure's dual-weighted indicators (dual.h) */
 } M2dEstimatorOptions;
 
 /* the figures a run is judged by (-1 where not known) */
@@ -26,6 +28,7 @@ typedef struct {
   PetscReal        true_error_rel;  /* -exact: the energy-norm error, relative */
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
+  PetscReal        goal_estimate;   /* -adapt_goal contact: sum eta_K(u) eta_K(z) / (|u| |z|), else -1 */
 } M2dFigures;
 
 /* -error_estimate, -estimator_recovery, -estimator_target, -estimator_order_sing.

@@ -12,6 +12,7 @@
 #include "logging.h"
 #include "optcheck.h"
 #include "optfiles.h"
+#include "adapt.h"
 #include "step.h"
 #include "util.h"
 
@@ -23,6 +24,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 {
   M2dSolverPath       path;
   M2dEstimatorOptions eo;
+  M2dAdaptOptions     ao;
 
   PetscFunctionBeginUser;
   if (s->nbody == 0) {
@@ -37,6 +39,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(M2dSolverChoosePath(comm, s, &path));
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
+  PetscCall(AdaptReadOptions(comm, s, &ao));
   PetscFunctionReturn(0);
 }
 
@@ -44,6 +47,7 @@ static PetscErrorCode Run(MPI_Comm comm)
 {
   M2dScene            s;
   M2dEstimatorOptions eo;
+  M2dAdaptOptions     ao;
   M2dStep             st;
 
   PetscFunctionBeginUser;
@@ -51,12 +55,16 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(SceneReadOptions(comm, &s));
   if (s.help) PetscFunctionReturn(DocumentOptions(comm, &s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
+  PetscCall(AdaptReadOptions(comm, &s, &ao));
+  if (ao.enabled && !eo.target_set) eo.size.target_rel = ao.target; /* the size field aims at the loop's target */
+  if (ao.enabled) eo.goal_contact = (PetscBool)(ao.goal == 1);
   {
     char save[PETSC_MAX_PATH_LEN];
     PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the check; MeshCreate reads it again */
   }
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
   PetscCall(OutputCheckPaths(comm, s.outdir, s.outname, s.summary, (PetscBool)(s.write_vtu || s.write_hdf5)));
+  if (ao.enabled) PetscFunctionReturn(AdaptRun(comm, &s, &ao, &eo)); /* model only what the scene needs */
   PetscCall(M2dStepSolve(comm, &s, NULL, NULL, &eo, &st));
   PetscCall(M2dStepWrite(&st));
   PetscCall(M2dStepDestroy(&st));

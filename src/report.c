@@ -1,5 +1,6 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
+#include "dual.h"
 #include "elasticity.h"
 #include "logging.h"
 #include "options.h"
@@ -144,13 +145,49 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
   PetscOptionsBegin(comm, NULL, "Error estimator", "");
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-error_estimate", "estimate the error per cell (cell field error_indicator, summary error_estimate)", o->enabled, &o->enabled));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-estimator_recovery", "stress recovery: spr (superconvergent patch) or average (nodal averaging)", recs, 2, &rec));
-  PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_target", "target relative energy-norm error of the size field", o->size.target_rel, &o->size.target_rel, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_target", "target relative energy-norm error of the size field (-adapt: -adapt_target)", o->size.target_rel, &o->size.target_rel, &o->target_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_order_sing", "order in h of the indicator at singular cells (size field)", o->size.order_sing, &o->size.order_sing, NULL));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   o->recovery = (M2dRecovery)rec;
   PetscCheck(o->size.target_rel > 0 && o->size.target_rel < 1, comm, PETSC_ERR_USER_INPUT, "option -estimator_target: %g must be in (0, 1)", (double)o->size.target_rel);
   PetscCheck(o->size.order_sing > 0 && o->size.order_sing <= o->size.order, comm, PETSC_ERR_USER_INPUT, "option -estimator_order_sing: %g must be in (0, %g]", (double)o->size.order_sing, (double)o->size.order);
+  PetscFunctionReturn(0);
+}
+
+/* -adapt_goal contact: the dual solution z of the pressure (dual.h), its own
+ * indicators eta_K(z), and the goal-oriented indicator eta_K^g =
+ * sqrt(eta_K(u) eta_K(z) |u|/|z|) - an energy-norm quantity that falls as h^2
+ * where both fields are smooth, so the size rule of estimator.h applies to it
+ * unchanged; the relative goal estimate is sqrt(sum eta_K^g^2) / |u| =
+ * sqrt(sum eta_K(u) eta_K(z) / (|u| |z|)). New sizes into hn. */
+static PetscErrorCode GoalIndicators(M2dProblem *pb, M2dSolution *sol, const M2dEstimatorOptions *eo, const PetscReal eta[], M2dFigures *fig, M2dSummary *sum, PetscReal hn[])
+{
+  MPI_Comm         comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  PetscInt         nlc  = pb->mesh.cEnd - pb->mesh.cStart;
+  PetscReal       *az, *g, *h, s2 = 0;
+  Vec              z;
+  M2dErrorEstimate ez, eg;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(sol->u, &z));
+  PetscCall(M2dDualSolve(pb, sol, z));
+  PetscCall(PetscMalloc3(nlc + 1, &az, nlc + 1, &g, nlc + 1, &h));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, z, NULL, eo->recovery, az, &ez));
+  for (PetscInt c = 0; c < nlc; c++) {
+    g[c] = PetscSqrtReal(eta[c] * az[c] * fig->est.energy_norm / PetscMax(ez.energy_norm, PETSC_SMALL));
+    s2 += g[c] * g[c];
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &s2, 1, MPIU_REAL, MPIU_SUM, comm));
+  eg                 = fig->est;
+  eg.estimate        = PetscSqrtReal(s2);
+  fig->goal_estimate = PetscSqrtReal(s2) / fig->est.energy_norm;
+  PetscCall(M2dCellSizes(&pb->mesh, h));
+  PetscCall(M2dSizeField(comm, nlc, h, g, &eg, &eo->size, hn, &fig->expected_cells));
+  PetscCall(M2dSummaryReal(sum, "estimator", "goal_estimate", fig->goal_estimate));
+  PetscCall(PetscPrintf(comm, "goal (contact pressure): dual-weighted estimate %.4e\n", (double)fig->goal_estimate));
+  PetscCall(PetscFree3(az, g, h));
+  PetscCall(VecDestroy(&z));
   PetscFunctionReturn(0);
 }
 
@@ -170,9 +207,12 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   PetscCall(PetscMalloc3(nlc + 1, &a, nlc + 1, &h, nlc + 1, &hn));
   PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, NULL, eo->recovery, a, &vol));
   for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = a[c] * scale;
+  fig->goal_estimate = -1;
   PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, est));
   PetscCall(M2dCellSizes(&pb->mesh, h));
-  PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) PetscCall(GoalIndicators(pb, sol, eo, a, fig, sum, hn));
+  else PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) nexp = fig->expected_cells;
   for (PetscInt c = 0; c < nlc; c++) {
     sol->eta[M2D_ETA_FIELDS * c]     = a[c] * scale;
     sol->eta[M2D_ETA_FIELDS * c + 2] = hn[c] / h[c];
@@ -204,7 +244,7 @@ PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerifica
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(fig, sizeof(*fig)));
-  fig->pressure_l2_rel = fig->true_error_rel = fig->effectivity = -1;
+  fig->pressure_l2_rel = fig->true_error_rel = fig->effectivity = fig->goal_estimate = -1;
   PetscCall(SummarizeProblem(pb, sol, v, sum));
   if (eo->enabled) PetscCall(Estimate(pb, sol, eo, fig, sum));
   if (pb->has_contact) PetscCall(SummarizeContact(pb, sol, fig, sum));

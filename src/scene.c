@@ -392,7 +392,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(M2dOptionsRaise(comm));
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
-  PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
+  PetscCheck(s->nmesh > 0 || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
   for (PetscInt i = 0; i < s->nmesh; i++) {
     char given[PETSC_MAX_PATH_LEN];
     PetscCall(PetscStrncpy(given, s->mesh[i], sizeof(given)));
