@@ -39,19 +39,22 @@ PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *p
  * multiplier, their positions (user units) and whether they were active. */
 typedef struct {
   PetscInt   n;
-  PetscReal *xy;     /* 2 per node */
+  PetscReal *xy;       /* 2 per node */
   PetscBool *active;
+  PetscReal *pressure; /* user units */
+  PetscReal *gap;
 } M2dContactState;
 
 /* Keep c's state (after ContactToUserUnits: positions in user units). Not
  * collective; free with ContactStateDestroy. */
 PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st);
 PetscErrorCode ContactStateDestroy(M2dContactState *st);
-/* The first active set of c from a previous state: multiplier j is active
- * when the previous node nearest to it (positions compared in user units: c's
- * surfaces are in reference units, unscaled by u->L) was. mask: one per
- * multiplier, every rank. Not collective. */
-PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscBool mask[]);
+/* The first active set of c from a previous state, by the active-set test
+ * itself, phi = lambda - cw g > 0 (cw: c times the new node's weight, reference
+ * units), with phi of the previous nodes interpolated between the two nearest
+ * (positions compared in user units: c's surfaces are in reference units,
+ * unscaled by u->L). mask: one per multiplier, every rank. Not collective. */
+PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[]);
 /* Turn the interface results and the surfaces' coordinates and weights from
  * reference units into the user's (for the files). Not collective. */
 PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u);

@@ -159,11 +159,13 @@ PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st)
 {
   PetscFunctionBeginUser;
   st->n = c->R.n;
-  PetscCall(PetscMalloc2(2 * st->n + 1, &st->xy, st->n + 1, &st->active));
+  PetscCall(PetscMalloc4(2 * st->n + 1, &st->xy, st->n + 1, &st->active, st->n + 1, &st->pressure, st->n + 1, &st->gap));
   for (PetscInt j = 0; j < st->n; j++) {
     st->xy[2 * j]     = c->nm.x[2 * c->R.node[j]];
     st->xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
     st->active[j]     = (PetscBool)(c->active[j] != 0);
+    st->pressure[j]   = c->pressure[j];
+    st->gap[j]        = c->gap[j];
   }
   PetscFunctionReturn(0);
 }
@@ -171,7 +173,7 @@ PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st)
 PetscErrorCode ContactStateDestroy(M2dContactState *st)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFree2(st->xy, st->active));
+  PetscCall(PetscFree4(st->xy, st->active, st->pressure, st->gap));
   st->n = 0;
   PetscFunctionReturn(0);
 }
@@ -182,28 +184,53 @@ static int CmpX(const void *a, const void *b)
   return (p->x > q->x) - (p->x < q->x);
 }
 
-/* nearest previous node by a sweep outwards in x from the binary-search position */
-static PetscInt Nearest(const XYIdx *o, PetscInt n, PetscReal x, PetscReal y)
+/* the nearest previous node k[0], and k[1] the nearest beyond p as seen from
+ * k[0] ((x_k1 - x_k0) . (p - x_k0) > 0; -1 if none), by sweeps outwards in x
+ * from the binary-search position */
+static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal x, PetscReal y, PetscInt k[2])
 {
-  PetscInt  lo = 0, hi = n, best = -1;
-  PetscReal d2 = PETSC_MAX_REAL;
+  PetscInt  lo = 0, hi = n;
+  PetscReal d2[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL};
+  k[0] = k[1] = -1;
   while (lo < hi) {
     PetscInt mid = (lo + hi) / 2;
     if (o[mid].x < x) lo = mid + 1;
     else hi = mid;
   }
-  for (PetscInt k = lo; k < n && PetscSqr(o[k].x - x) < d2; k++) {
-    PetscReal d = PetscSqr(o[k].x - x) + PetscSqr(o[k].y - y);
-    if (d < d2) d2 = d, best = o[k].j;
-  }
-  for (PetscInt k = lo - 1; k >= 0 && PetscSqr(o[k].x - x) < d2; k--) {
-    PetscReal d = PetscSqr(o[k].x - x) + PetscSqr(o[k].y - y);
-    if (d < d2) d2 = d, best = o[k].j;
-  }
-  return best;
+  for (int pass = 0; pass < 2; pass++)
+    for (int dir = 0; dir < 2; dir++)
+      for (PetscInt i = dir ? lo - 1 : lo; i >= 0 && i < n && PetscSqr(o[i].x - x) < d2[pass]; i += dir ? -1 : 1) {
+        PetscReal d = PetscSqr(o[i].x - x) + PetscSqr(o[i].y - y);
+        if (pass == 1 && (o[i].j == k[0] || (o[i].x - xy[2 * k[0]]) * (x - xy[2 * k[0]]) + (o[i].y - xy[2 * k[0] + 1]) * (y - xy[2 * k[0] + 1]) <= 0)) continue;
+        if (d < d2[pass]) d2[pass] = d, k[pass] = o[i].j;
+        if (pass == 1 && k[0] < 0) return;
+      }
 }
 
-PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscBool mask[])
+/* Between the last active previous node A0 and the first inactive one B the
+ * zone ends where the pressure does: near the edge of a smooth contact p^2 is
+ * linear in the distance to it (p ~ sqrt(a - x)), so with A1 the active node
+ * before A0, the edge is at |A0 - A1| p0^2 / (p1^2 - p0^2) beyond A0. Is p
+ * (projected on A0 -> B) before it? */
+static PetscBool EdgeSide(const M2dContactState *st, PetscInt a0, PetscInt b, const PetscReal p[2])
+{
+  const PetscReal *x0 = &st->xy[2 * a0], *xb = &st->xy[2 * b];
+  PetscReal        d[2] = {xb[0] - x0[0], xb[1] - x0[1]}, L = PetscSqrtReal(d[0] * d[0] + d[1] * d[1]), best = PETSC_MAX_REAL, s, p0, p1;
+  PetscInt         a1 = -1;
+  if (!(L > 0)) return PETSC_TRUE;
+  for (PetscInt i = 0; i < st->n; i++) { /* the nearest active node behind A0 */
+    PetscReal e[2] = {st->xy[2 * i] - x0[0], st->xy[2 * i + 1] - x0[1]}, dd = e[0] * e[0] + e[1] * e[1];
+    if (i == a0 || !st->active[i] || e[0] * d[0] + e[1] * d[1] >= 0 || dd >= best) continue;
+    best = dd, a1 = i;
+  }
+  s  = ((p[0] - x0[0]) * d[0] + (p[1] - x0[1]) * d[1]) / L; /* p's distance beyond A0 */
+  p0 = st->pressure[a0];
+  p1 = a1 >= 0 ? st->pressure[a1] : 0;
+  if (a1 < 0 || !(p1 * p1 > p0 * p0)) return (PetscBool)(s < 0.5 * L);
+  return (PetscBool)(s < PetscMin(L, PetscSqrtReal(best) * p0 * p0 / (p1 * p1 - p0 * p0)));
+}
+
+PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[])
 {
   XYIdx *o;
 
@@ -216,8 +243,19 @@ PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, 
   }
   qsort(o, (size_t)st->n, sizeof(XYIdx), CmpX);
   for (PetscInt j = 0; j < c->R.n; j++) {
-    PetscInt k = st->n > 0 ? Nearest(o, st->n, c->nm.x[2 * c->R.node[j]] * u->L, c->nm.x[2 * c->R.node[j] + 1] * u->L) : -1;
-    mask[j]    = (PetscBool)(k >= 0 && st->active[k]);
+    PetscReal p[2] = {c->nm.x[2 * c->R.node[j]] * u->L, c->nm.x[2 * c->R.node[j] + 1] * u->L}, cw = cparam * c->R.w[j], phi[2], t = 0;
+    PetscInt  k[2];
+    Nearest2(o, st->n, st->xy, p[0], p[1], k);
+    mask[j] = PETSC_FALSE;
+    if (k[0] < 0) continue;
+    for (int i = 0; i < 2; i++) phi[i] = k[i] < 0 ? 0 : st->pressure[k[i]] / u->S - cw * st->gap[k[i]] / u->U;
+    if (k[1] >= 0 && (phi[0] > 0) != (phi[1] > 0)) { /* the edge of the zone between them: interpolate */
+      const PetscReal *a = &st->xy[2 * k[0]], *b = &st->xy[2 * k[1]];
+      PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]);
+      t = l2 > 0 ? PetscMin(1, PetscMax(0, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2)) : 0;
+    }
+    mask[j] = (PetscBool)((1 - t) * phi[0] + t * (k[1] >= 0 ? phi[1] : 0) > 0);
+    if (k[1] >= 0 && st->active[k[0]] != st->active[k[1]]) mask[j] = EdgeSide(st, st->active[k[0]] ? k[0] : k[1], st->active[k[0]] ? k[1] : k[0], p);
   }
   PetscCall(PetscFree(o));
   PetscFunctionReturn(0);

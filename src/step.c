@@ -20,7 +20,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   PetscCall(ProblemSetUp(&st->pb, path, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
   if (warm && st->pb.has_contact) {
     PetscCall(PetscMalloc1(st->pb.contact.R.n + 1, &st->pb.warm));
-    PetscCall(ContactStateMask(warm, &st->pb.contact, &st->pb.units, st->pb.warm));
+    PetscCall(ContactStateMask(warm, &st->pb.contact, &st->pb.units, st->pb.s.contact_c_set ? st->pb.s.contact_c : ActiveSetDefaultC(&st->pb.s, &st->pb.contact), st->pb.warm));
   }
 
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
