@@ -30,10 +30,12 @@ If (body != 2)
   Line(4) = {4, 1};  // left
   Curve Loop(1) = {1, 2, 3, 4};
   Plane Surface(1) = {1};
-  Transfinite Curve{1, 3} = nlx + 1;
-  Transfinite Curve{2, 4} = nly + 1;
-  Transfinite Surface{1} = {1, 2, 3, 4};
-  Recombine Surface{1};
+  If (!Exists(m2d_size_field))  // remeshed by mortar2d -adapt: its size field instead
+    Transfinite Curve{1, 3} = nlx + 1;
+    Transfinite Curve{2, 4} = nly + 1;
+    Transfinite Surface{1} = {1, 2, 3, 4};
+    Recombine Surface{1};
+  EndIf
 
   Physical Surface("lower", 1) = {1};
   Physical Curve("lower_bottom", 11) = {1};
@@ -54,10 +56,12 @@ If (body != 1)
   Line(14) = {14, 11};  // left
   Curve Loop(2) = {11, 12, 13, 14};
   Plane Surface(2) = {2};
-  Transfinite Curve{11, 13} = nux + 1;
-  Transfinite Curve{12, 14} = nuy + 1;
-  Transfinite Surface{2} = {11, 12, 13, 14};
-  Recombine Surface{2};
+  If (!Exists(m2d_size_field))
+    Transfinite Curve{11, 13} = nux + 1;
+    Transfinite Curve{12, 14} = nuy + 1;
+    Transfinite Surface{2} = {11, 12, 13, 14};
+    Recombine Surface{2};
+  EndIf
 
   Physical Surface("upper", 2) = {2};
   Physical Curve("upper_bottom", 21) = {11};
