@@ -1,0 +1,71 @@
+"""The adaptive loop (-adapt, src/adapt.c):
+ 1. Hertz with options/hertz_adapt.opts: at most 5e4 dofs on the final mesh,
+    the pressure error against Hertz below 2e-3 (1.40e-3 measured; the edge of
+    the zone falling between nodes moves it by up to 30%), at most 3
+    active-set steps on every adapted mesh after the first, a well-formed
+    "adapt" list in the summary; the same meshes and answers on 2 ranks;
+ 2. the refinement goes where the scene needs it: Hertz's smallest cells at
+    the edge of the contact zone (x = a), S1's at the two corners of the upper
+    body on the lower one;
+ 3. the estimate falls from mesh to mesh;
+ 4. bad input: -adapt without -geo, a missing .geo, a malformed
+    -geo_setnumber: one line, exit 1."""
+import os
+
+import numpy as np
+from m2d import check, opts, read_h5, run, solve, workdir
+
+A_HERTZ = 0.0998217
+
+
+def cells_and_sizes(h5):
+    xy, cells, vf, cf = read_h5(h5)
+    c = xy[cells]
+    cen = c.mean(axis=1)
+    d1, d2 = c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]
+    h = np.sqrt(np.abs(0.5 * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])))
+    return cen, h, cf
+
+
+# ---------------------------------------------------------------- 1. Hertz
+res = {}
+for ranks in (1, 2):
+    tag = "adapt_hertz_%d" % ranks
+    s = solve(tag, ["-options_file", opts("hertz_adapt"), "-contact_monitor", "0", "-output_name", "sol"], ranks=ranks)
+    res[ranks] = s
+    steps = s["adapt"]
+    print("  %d rank(s): " % ranks + ", ".join("%d dofs %.2e (%d steps)" % (a["dofs"], a["pressure_l2_rel"], a["iterations"]) for a in steps))
+    check(s["dofs"] <= 50000 and s["pressure_l2_rel"] < 2e-3, "Hertz adaptive, %d rank(s): %d dofs, pressure error %.3e after %d meshes" % (ranks, s["dofs"], s["pressure_l2_rel"], len(steps)))
+    check(all(a["iterations"] <= 3 for a in steps[1:]), "Hertz adaptive, %d rank(s): active-set steps per adapted mesh %s (<= 3 after the first)" % (ranks, [a["iterations"] for a in steps]))
+    check(all(steps[k + 1]["error_estimate"] < steps[k]["error_estimate"] for k in range(len(steps) - 1)), "Hertz adaptive: the estimate falls from mesh to mesh %s" % ["%.2e" % a["error_estimate"] for a in steps])
+    check(steps[-1]["dofs"] == s["dofs"] and all(a["seconds"] > 0 for a in steps), "Hertz adaptive: the adapt list ends with the final mesh")
+check([a["dofs"] for a in res[1]["adapt"]] == [a["dofs"] for a in res[2]["adapt"]], "Hertz adaptive: the same meshes on 1 and 2 ranks (%s)" % [a["dofs"] for a in res[1]["adapt"]])
+d = abs(res[1]["pressure_l2_rel"] - res[2]["pressure_l2_rel"]) / res[1]["pressure_l2_rel"]
+check(d < 1e-8, "Hertz adaptive: the same pressure error on 1 and 2 ranks (%.1e)" % d)
+
+# ---------------------------------------------------------------- 2. where the cells go
+cen, h, cf = cells_and_sizes(os.path.join(workdir("adapt_hertz_1"), "sol.h5"))
+small = np.argsort(h)[:100]
+r = np.hypot(cen[small, 0] - A_HERTZ, cen[small, 1])
+check(np.percentile(r, 90) < 0.05 and np.median(r) < 0.025 and r.max() < 0.15, "Hertz: the 100 smallest cells gather at the zone edge (a, 0): median distance %.4f, 90%% within %.4f, all within %.4f of it" % (np.median(r), np.percentile(r, 90), r.max()))
+far = np.hypot(cen[:, 0], cen[:, 1]) > 1
+check(np.median(h[far]) > 50 * np.median(h[small]), "Hertz: cells far from the contact stay coarse (median h %.3f against %.5f at the edge)" % (np.median(h[far]), np.median(h[small])))
+
+s = solve("adapt_s1", ["-options_file", opts("seed_patch_adapt"), "-adapt_max_steps", "3", "-contact_monitor", "0", "-output_name", "sol"])
+cen, h, cf = cells_and_sizes(os.path.join(workdir("adapt_s1"), "sol.h5"))
+small = np.argsort(h)[:20]
+corner = np.minimum(np.hypot(cen[small, 0] - 0.25, cen[small, 1] - 0.5), np.hypot(cen[small, 0] - 0.75, cen[small, 1] - 0.5))
+check(np.percentile(corner, 90) < 0.03, "S1: 90%% of the 20 smallest cells lie within 0.03 of the two corners (%.4f; the others at the lower body's fixed corners)" % np.percentile(corner, 90))
+left, right = (corner < 0.03) & (cen[small, 0] < 0.5), (corner < 0.03) & (cen[small, 0] > 0.5)
+check(left.any() and right.any(), "S1: both corners are refined (%d left, %d right of the 20 smallest)" % (left.sum(), right.sum()))
+check(s["adapt"][-1]["error_estimate"] < 0.2 * s["adapt"][0]["error_estimate"], "S1: the estimate falls %.2e -> %.2e over %d meshes" % (s["adapt"][0]["error_estimate"], s["adapt"][-1]["error_estimate"], len(s["adapt"])))
+
+# ---------------------------------------------------------------- 4. bad input
+bad = [("-adapt without -geo", ["-options_file", opts("hertz"), "-adapt"], "-geo"),
+       ("a missing .geo", ["-options_file", opts("hertz_adapt"), "-geo", "nosuch.geo"], "nosuch.geo"),
+       ("-geo_setnumber without =", ["-options_file", opts("hertz_adapt"), "-geo_setnumber", "level"], "-geo_setnumber"),
+       ("-adapt_target 2", ["-options_file", opts("hertz_adapt"), "-adapt_target", "2"], "-adapt_target")]
+for what, args, name in bad:
+    rc, out, err = run(args + ["-output_dir", workdir("adapt_bad")], check=False)
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    check(rc == 1 and len(lines) == 1 and name in lines[0], "%s: one line naming %s: %s" % (what, name, lines[-1] if lines else "(none)"))
