@@ -16,21 +16,30 @@
 #include "scene.h"
 #include <petscksp.h>
 
+/* Which path uses what: every path the problem (K, f, C, Ct, r, nlam); the
+ * condensed path the blocks (Kblk, CA, Z, gamma); the full and tied paths and
+ * fieldsplit the operator (nest, A, A0, isu, isl, b, x, aij). */
 typedef struct {
-  PetscInt  nlam;
-  Mat       K;     /* elasticity, Dirichlet rows applied (reference) */
-  Vec       f;     /* load, Dirichlet-lifted (reference) */
-  Mat       C;     /* nlam x Nu, Dirichlet columns zeroed: all candidate rows */
-  Vec       r;     /* right-hand side of the multiplier rows */
-  Mat       CA;    /* the (lambda,u) block in use: rows of C, inactive ones zeroed */
+  /* the problem */
+  PetscInt nlam; /* multipliers (candidate contact rows) */
+  Mat      K;    /* elasticity, Dirichlet rows applied (referenced) */
+  Vec      f;    /* load, Dirichlet-lifted (referenced) */
+  Mat      C;    /* nlam x Nu, Dirichlet columns zeroed: all candidate rows */
+  Mat      Ct;   /* C^T */
+  Vec      r;    /* right-hand side of the multiplier rows, g0 - C u_D */
+  /* the blocks of the current active set */
+  Mat       CA;    /* the (lambda,u) block: rows of C, inactive ones zeroed, scaled */
   Mat       Kblk;  /* the (u,u) block: K, or K + gamma CA^T CA */
   Mat       CtCA;  /* CA^T CA (augmentation only) */
-  Mat       Ct, Z, nest, A; /* Z: (lambda,lambda) block; A: operator for the KSP (nest or aij; NULL on the condensed path, which reads the blocks) */
-  Mat       A0;             /* aij with every row active, unscaled: A is updated from it */
-  IS        isu, isl;       /* u and lambda in the global numbering of A */
-  Vec       b, x;
-  PetscReal gamma;          /* applied augmentation weight (scaled) */
-  PetscBool aij;
+  Mat       Z;     /* the (lambda,lambda) block: -(scale/c) on inactive rows */
+  PetscReal gamma; /* applied augmentation weight (scaled; 0: none) */
+  /* the operator of a KSP on the whole system */
+  Mat       nest;     /* the four blocks */
+  Mat       A;        /* nest, or its monolithic aij copy; NULL on the condensed path */
+  Mat       A0;       /* aij with every row active, unscaled: A is updated from it */
+  IS        isu, isl; /* u and lambda in the numbering of A */
+  Vec       b, x;     /* right-hand side and solution in that numbering */
+  PetscBool aij;      /* A is aij */
 } M2dKKT;
 
 /* The KKT blocks of rows R on K, f (supports eliminated; ubc holds the

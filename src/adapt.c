@@ -69,92 +69,120 @@ static void PrevMeshFree(PrevMesh *p)
   p->hcell = NULL;
 }
 
-/* per local cell: 4 global vertex numbers, the body, h_new; per owned vertex: its number and coordinates */
-static PetscErrorCode GatherPrevMesh(const M2dStep *st, const int bodytag[], PrevMesh *prev)
+/* what each rank sends rank 0 about its cells and its owned vertices (all
+ * doubles: one MPI datatype) */
+typedef struct {
+  double vert[4]; /* global vertex numbers */
+  double body;
+  double hnew;    /* the new size, user units */
+} CellRecord;
+typedef struct {
+  double id, x, y; /* global vertex number, user coordinates */
+} VertexRecord;
+#define M2D_DOUBLES(T) ((int)(sizeof(T) / sizeof(double)))
+
+static PetscErrorCode PackRecords(const M2dStep *st, CellRecord *cr, VertexRecord *vr, PetscInt *nown)
 {
-  const M2dMesh     *m    = &st->pb.mesh;
-  MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
-  PetscMPIInt        rank, size, nc, nv, *cc, *cd, *vc, *vd;
-  PetscInt           nlc = m->cEnd - m->cStart, nown = 0, k = 0;
+  const M2dMesh     *m = &st->pb.mesh;
+  PetscInt           nlc = m->cEnd - m->cStart;
   PetscSection       gsec, cs;
   Vec                cl;
   const PetscScalar *ca;
-  double            *cbuf, *vbuf, *call = NULL, *vall = NULL, L = st->pb.units.L;
+  PetscReal         *h, L = st->pb.units.L;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(VecGetArrayRead(cl, &ca));
-  PetscCall(PetscMalloc2(6 * nlc + 1, &cbuf, 3 * (m->vEnd - m->vStart) + 1, &vbuf));
+  PetscCall(PetscMalloc1(nlc + 1, &h));
+  PetscCall(M2dCellSizes(m, h));
   for (PetscInt c = 0; c < nlc; c++) {
     for (int j = 0; j < 4; j++) {
       PetscInt g;
       PetscCall(PetscSectionGetOffset(gsec, m->cellverts[4 * c + j], &g));
-      cbuf[6 * c + j] = (double)((g < 0 ? -(g + 1) : g) / 2);
+      cr[c].vert[j] = (double)((g < 0 ? -(g + 1) : g) / 2);
     }
-    cbuf[6 * c + 4] = (double)m->cellbody[c];
-    cbuf[6 * c + 5] = st->sol.eta[M2D_ETA_FIELDS * c + 2]; /* h_new / h, times h below */
+    cr[c].body = (double)m->cellbody[c];
+    cr[c].hnew = st->sol.eta[M2D_ETA_FIELDS * c + 2] * h[c] * L; /* h_new / h, times h */
   }
-  {
-    PetscReal *h;
-    PetscCall(PetscMalloc1(nlc + 1, &h));
-    PetscCall(M2dCellSizes(m, h));
-    for (PetscInt c = 0; c < nlc; c++) cbuf[6 * c + 5] *= h[c] * L;
-    PetscCall(PetscFree(h));
-  }
+  PetscCall(PetscFree(h));
+  PetscCall(VecGetArrayRead(cl, &ca));
+  *nown = 0;
   for (PetscInt v = m->vStart; v < m->vEnd; v++) {
     PetscInt g, off;
     PetscCall(PetscSectionGetOffset(gsec, v, &g));
     if (g < 0) continue;
     PetscCall(PetscSectionGetOffset(cs, v, &off));
-    vbuf[3 * nown]     = (double)(g / 2);
-    vbuf[3 * nown + 1] = PetscRealPart(ca[off]) * L;
-    vbuf[3 * nown + 2] = PetscRealPart(ca[off + 1]) * L;
-    nown++;
+    vr[*nown].id = (double)(g / 2);
+    vr[*nown].x  = PetscRealPart(ca[off]) * L;
+    vr[*nown].y  = PetscRealPart(ca[off + 1]) * L;
+    (*nown)++;
   }
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(PetscMalloc4(size, &cc, size + 1, &cd, size, &vc, size + 1, &vd));
-  PetscCall(PetscMPIIntCast(6 * nlc, &nc));
-  PetscCall(PetscMPIIntCast(3 * nown, &nv));
-  PetscCallMPI(MPI_Gather(&nc, 1, MPI_INT, cc, 1, MPI_INT, 0, comm));
-  PetscCallMPI(MPI_Gather(&nv, 1, MPI_INT, vc, 1, MPI_INT, 0, comm));
+  PetscFunctionReturn(0);
+}
+
+/* gather n records of `width` doubles to rank 0 (*all there, *ntot their count) */
+static PetscErrorCode GatherDoubles(MPI_Comm comm, const double *mine, PetscInt n, int width, double **all, PetscInt *ntot)
+{
+  PetscMPIInt rank, size, cnt, *counts = NULL, *displs = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMPIIntCast(width * n, &cnt));
+  *all  = NULL;
+  *ntot = 0;
+  if (rank == 0) PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
+  PetscCallMPI(MPI_Gather(&cnt, 1, MPI_INT, counts, 1, MPI_INT, 0, comm));
   if (rank == 0) {
-    cd[0] = vd[0] = 0;
-    for (PetscMPIInt r = 0; r < size; r++) cd[r + 1] = cd[r] + cc[r], vd[r + 1] = vd[r] + vc[r];
-    PetscCall(PetscMalloc2(cd[size] + 1, &call, vd[size] + 1, &vall));
+    displs[0] = 0;
+    for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
+    PetscCall(PetscMalloc1(displs[size] + 1, all));
+    *ntot = displs[size] / width;
   }
-  PetscCallMPI(MPI_Gatherv(cbuf, nc, MPI_DOUBLE, call, cc, cd, MPI_DOUBLE, 0, comm));
-  PetscCallMPI(MPI_Gatherv(vbuf, nv, MPI_DOUBLE, vall, vc, vd, MPI_DOUBLE, 0, comm));
-  if (rank == 0) {
-    MshMesh *q = &prev->msh;
+  PetscCallMPI(MPI_Gatherv(mine, cnt, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, 0, comm));
+  if (rank == 0) PetscCall(PetscFree2(counts, displs));
+  PetscFunctionReturn(0);
+}
+
+/* the previous mesh on rank 0 (user units), with the new size per quad and the
+ * physical tag of each quad's body (bodytag) */
+static PetscErrorCode GatherPrevMesh(const M2dStep *st, const int bodytag[], PrevMesh *prev)
+{
+  const M2dMesh *m = &st->pb.mesh;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
+  PetscInt       nlc = m->cEnd - m->cStart, nown = 0, nc = 0, nv = 0;
+  CellRecord    *cr, *call;
+  VertexRecord  *vr, *vall;
+  MshMesh       *q = &prev->msh;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(nlc + 1, &cr, m->vEnd - m->vStart + 1, &vr));
+  PetscCall(PackRecords(st, cr, vr, &nown));
+  PetscCall(GatherDoubles(comm, (double *)cr, nlc, M2D_DOUBLES(CellRecord), (double **)&call, &nc));
+  PetscCall(GatherDoubles(comm, (double *)vr, nown, M2D_DOUBLES(VertexRecord), (double **)&vall, &nv));
+  PetscCall(PetscFree2(cr, vr));
+  if (call) { /* rank 0 */
     PetscCall(PetscMemzero(q, sizeof(*q)));
     q->nnode    = m->nvert_global;
-    q->nquad    = m->ncell_global;
+    q->nquad    = nc;
     q->xy       = (double *)malloc((size_t)(2 * q->nnode + 1) * sizeof(double));
-    q->quad     = (long *)malloc((size_t)(4 * q->nquad + 1) * sizeof(long));
-    q->quadtag  = (long *)malloc((size_t)(q->nquad + 1) * sizeof(long));
-    q->quadphys = (int *)malloc((size_t)(q->nquad + 1) * sizeof(int));
-    prev->hcell = (double *)malloc((size_t)(q->nquad + 1) * sizeof(double));
+    q->quad     = (long *)malloc((size_t)(4 * nc + 1) * sizeof(long));
+    q->quadtag  = (long *)malloc((size_t)(nc + 1) * sizeof(long));
+    q->quadphys = (int *)malloc((size_t)(nc + 1) * sizeof(int));
+    prev->hcell = (double *)malloc((size_t)(nc + 1) * sizeof(double));
     PetscCheck(q->xy && q->quad && q->quadtag && q->quadphys && prev->hcell, PETSC_COMM_SELF, PETSC_ERR_MEM, "out of memory gathering the mesh for remeshing");
-    for (PetscInt i = 0; i < vd[size] / 3; i++) {
-      long g            = (long)vall[3 * i];
-      q->xy[2 * g]     = vall[3 * i + 1];
-      q->xy[2 * g + 1] = vall[3 * i + 2];
-    }
-    for (PetscInt c = 0; c < cd[size] / 6; c++, k++) {
-      for (int j = 0; j < 4; j++) q->quad[4 * c + j] = (long)call[6 * c + j];
+    for (PetscInt i = 0; i < nv; i++) q->xy[2 * (long)vall[i].id] = vall[i].x, q->xy[2 * (long)vall[i].id + 1] = vall[i].y;
+    for (PetscInt c = 0; c < nc; c++) {
+      for (int j = 0; j < 4; j++) q->quad[4 * c + j] = (long)call[c].vert[j];
       q->quadtag[c]  = c + 1;
-      q->quadphys[c] = bodytag[(int)call[6 * c + 4]];
-      prev->hcell[c] = call[6 * c + 5];
+      q->quadphys[c] = bodytag[(int)call[c].body];
+      prev->hcell[c] = call[c].hnew;
     }
-    PetscCall(PetscFree2(call, vall));
   }
-  (void)k;
-  PetscCall(PetscFree4(cc, cd, vc, vd));
-  PetscCall(PetscFree2(cbuf, vbuf));
+  PetscCall(PetscFree(call));
+  PetscCall(PetscFree(vall));
   PetscFunctionReturn(0);
 }
 

@@ -36,21 +36,14 @@ static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+/* C = -B with the Dirichlet columns zeroed and their part moved to r = g0 - C u_D */
+static PetscErrorCode ConstraintRows(const M2dContactRows *R, Mat K, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)K);
-  Vec      g0, mask, fk;
-  PetscInt lo, hi, nl, nu, N, Nl;
-  IS       isg[2];
+  Vec      g0, mask;
+  PetscInt lo, hi;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
-  kkt->nlam = R->n;
-  kkt->K    = K;
-  kkt->f    = f;
-  kkt->aij  = (PetscBool)(s->kkt_mat == M2D_KKT_AIJ);
-  PetscCall(PetscObjectReference((PetscObject)K));
-  PetscCall(PetscObjectReference((PetscObject)f));
   PetscCall(BuildC(comm, R, K, &kkt->C));
   PetscCall(MatCreateVecs(kkt->C, NULL, &g0));
   PetscCall(VecDuplicate(g0, &kkt->r));
@@ -58,11 +51,10 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
   for (PetscInt j = lo; j < hi; j++) PetscCall(VecSetValue(g0, j, R->g0[j], INSERT_VALUES));
   PetscCall(VecAssemblyBegin(g0));
   PetscCall(VecAssemblyEnd(g0));
-  /* move the Dirichlet columns to the right-hand side, then zero them */
   PetscCall(MatMult(kkt->C, ubc, kkt->r));
   PetscCall(VecAYPX(kkt->r, -1.0, g0));
   PetscCall(VecDestroy(&g0));
-  PetscCall(VecDuplicate(f, &mask));
+  PetscCall(MatCreateVecs(K, &mask, NULL));
   PetscCall(VecSet(mask, 1.0));
   for (PetscInt i = 0; i < ndir; i++) PetscCall(VecSetValue(mask, drows[i], 0.0, INSERT_VALUES));
   PetscCall(VecAssemblyBegin(mask));
@@ -71,36 +63,54 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
   PetscCall(VecDestroy(&mask));
   PetscCall(MatTranspose(kkt->C, MAT_INITIAL_MATRIX, &kkt->Ct));
   PetscCall(MatDuplicate(kkt->C, MAT_COPY_VALUES, &kkt->CA));
+  PetscFunctionReturn(0);
+}
 
-  /* the (u,u) block and its right-hand side */
-  PetscCall(VecDuplicate(f, &fk));
-  PetscCall(VecCopy(f, fk));
-  if (s->kkt_augment > 0) {
-    Vec       dk, dc;
-    PetscReal sk, sc;
-    PetscInt  n;
-    PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
-    PetscCall(MatCreateVecs(K, &dk, NULL));
-    PetscCall(VecDuplicate(dk, &dc));
-    PetscCall(MatGetDiagonal(K, dk));
-    PetscCall(MatGetDiagonal(kkt->CtCA, dc));
-    PetscCall(VecNorm(dk, NORM_1, &sk));
-    PetscCall(VecNorm(dc, NORM_1, &sc));
-    PetscCall(VecGetSize(dk, &n));
-    sk /= n;
-    sc /= PetscMax(1, 2 * kkt->nlam);
-    kkt->gamma = sc > 0 ? s->kkt_augment * sk / sc : 0;
-    PetscCall(MatDuplicate(K, MAT_COPY_VALUES, &kkt->Kblk));
-    PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN)); /* K holds C^T C's pattern (MeshCreateMatrix) */
-    PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
-    PetscCall(VecAXPY(fk, kkt->gamma, dk));
-    PetscCall(VecDestroy(&dk));
-    PetscCall(VecDestroy(&dc));
-  } else {
-    PetscCall(PetscObjectReference((PetscObject)K));
-    kkt->Kblk = K;
+/* the (u,u) block and its right-hand side fk: K and f, or with w > 0
+ * K + g C^T C and f + g C^T r, g = w mean diag(K) / mean diag(C^T C) */
+static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt, Vec fk)
+{
+  Vec       dk, dc;
+  PetscReal sk, sc;
+  PetscInt  n;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(kkt->f, fk));
+  if (!(w > 0)) {
+    PetscCall(PetscObjectReference((PetscObject)kkt->K));
+    kkt->Kblk = kkt->K;
+    PetscFunctionReturn(0);
   }
-  /* explicit zero (lambda, lambda) block: keeps the structure symmetric for MUMPS */
+  PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
+  PetscCall(MatCreateVecs(kkt->K, &dk, NULL));
+  PetscCall(VecDuplicate(dk, &dc));
+  PetscCall(MatGetDiagonal(kkt->K, dk));
+  PetscCall(MatGetDiagonal(kkt->CtCA, dc));
+  PetscCall(VecNorm(dk, NORM_1, &sk));
+  PetscCall(VecNorm(dc, NORM_1, &sc));
+  PetscCall(VecGetSize(dk, &n));
+  sk /= n;
+  sc /= PetscMax(1, 2 * kkt->nlam);
+  kkt->gamma = sc > 0 ? w * sk / sc : 0;
+  PetscCall(MatDuplicate(kkt->K, MAT_COPY_VALUES, &kkt->Kblk));
+  PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN)); /* K holds C^T C's pattern (MeshCreateMatrix) */
+  PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
+  PetscCall(VecAXPY(fk, kkt->gamma, dk));
+  PetscCall(VecDestroy(&dk));
+  PetscCall(VecDestroy(&dc));
+  PetscFunctionReturn(0);
+}
+
+/* the nest of the four blocks (an explicit zero (lambda, lambda) block keeps
+ * the structure symmetric for MUMPS), the operator A, the splits and b, x */
+static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, Vec fk, M2dKKT *kkt)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)kkt->K);
+  PetscInt lo, hi, nl, Nl, nu, N;
+  IS       isg[2];
+  Mat      blocks[4];
+
+  PetscFunctionBeginUser;
   PetscCall(VecGetLocalSize(kkt->r, &nl));
   PetscCall(VecGetSize(kkt->r, &Nl));
   PetscCall(MatCreateAIJ(comm, nl, nl, Nl, Nl, 1, NULL, 0, NULL, &kkt->Z));
@@ -108,10 +118,8 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
   for (PetscInt j = lo; j < hi; j++) PetscCall(MatSetValue(kkt->Z, j, j, 0.0, INSERT_VALUES));
   PetscCall(MatAssemblyBegin(kkt->Z, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->Z, MAT_FINAL_ASSEMBLY));
-  {
-    Mat blocks[4] = {kkt->Kblk, kkt->Ct, kkt->CA, kkt->Z};
-    PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
-  }
+  blocks[0] = kkt->Kblk, blocks[1] = kkt->Ct, blocks[2] = kkt->CA, blocks[3] = kkt->Z;
+  PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   if (condensed) kkt->A = NULL; /* condensed.c reads the blocks */
   else if (s->kkt_mat == M2D_KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
   else {
@@ -123,12 +131,31 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
   PetscCall(PetscObjectReference((PetscObject)isg[1]));
   kkt->isu = isg[0];
   kkt->isl = isg[1];
-  PetscCall(VecGetLocalSize(f, &nu));
-  PetscCall(VecGetSize(f, &N));
+  PetscCall(VecGetLocalSize(kkt->f, &nu));
+  PetscCall(VecGetSize(kkt->f, &N));
   PetscCall(VecCreateMPI(comm, nu + nl, N + Nl, &kkt->b));
   PetscCall(VecDuplicate(kkt->b, &kkt->x));
   PetscCall(VecISCopy(kkt->b, kkt->isu, SCATTER_FORWARD, fk));
   PetscCall(VecISCopy(kkt->b, kkt->isl, SCATTER_FORWARD, kkt->r));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+{
+  Vec fk;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
+  kkt->nlam = R->n;
+  kkt->K    = K;
+  kkt->f    = f;
+  kkt->aij  = (PetscBool)(s->kkt_mat == M2D_KKT_AIJ);
+  PetscCall(PetscObjectReference((PetscObject)K));
+  PetscCall(PetscObjectReference((PetscObject)f));
+  PetscCall(ConstraintRows(R, K, ubc, ndir, drows, kkt));
+  PetscCall(VecDuplicate(f, &fk));
+  PetscCall(AugmentedBlock(s->kkt_augment, kkt, fk));
+  PetscCall(Operator(s, condensed, fk, kkt));
   PetscCall(VecDestroy(&fk));
   PetscFunctionReturn(0);
 }
