@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Sizes of the C sources: the longest functions and the longest files.
 
-    python3 tools/code_size.py [--top N] [--max-lines 80]
+    python3 tools/code_size.py [--top N] [--max-lines 80] [--rev GIT_REVISION]
 
 A function is counted from the line of its name to its closing brace at column
 0 (the layout clang-format gives this code). Prints the N longest functions and
@@ -10,24 +10,36 @@ import argparse
 import glob
 import os
 import re
+import subprocess
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--top", type=int, default=8)
 ap.add_argument("--max-lines", type=int, default=80)
+ap.add_argument("--rev", help="measure src/*.c of this git revision instead of the working tree")
 args = ap.parse_args()
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def sources():
+    """(name, text) of every src/*.c"""
+    if not args.rev:
+        return [(os.path.relpath(p, root), open(p).read()) for p in sorted(glob.glob(os.path.join(root, "src", "*.c")))]
+    names = subprocess.run(["git", "-C", root, "ls-tree", "--name-only", args.rev, "src/"], capture_output=True, text=True, check=True).stdout.split()
+    return [(n, subprocess.run(["git", "-C", root, "show", "%s:%s" % (args.rev, n)], capture_output=True, text=True, check=True).stdout) for n in names if n.endswith(".c")]
+
+
 head = re.compile(r"^(?:static\s+)?(?:inline\s+)?[A-Za-z_][\w\s\*]*?\b(\w+)\s*\([^;]*$")
 funcs, files = [], []
-for path in sorted(glob.glob(os.path.join(root, "src", "*.c"))):
-    lines = open(path).read().split("\n")
-    files.append((len(lines) - 1, os.path.relpath(path, root)))
-    start = name = None
+for name, text in sources():
+    lines = text.split("\n")
+    files.append((len(lines) - 1, name))
+    start = fname = None
     for i, line in enumerate(lines):
         m = head.match(line)
         if m and start is None and not line.startswith(" ") and not line.rstrip().endswith(";"):
-            start, name = i, m.group(1)
+            start, fname = i, m.group(1)
         elif start is not None and line.startswith("}"):
-            funcs.append((i - start + 1, "%s:%s" % (os.path.relpath(path, root), name)))
+            funcs.append((i - start + 1, "%s:%s" % (name, fname)))
             start = None
 funcs.sort(reverse=True)
 files.sort(reverse=True)
