@@ -388,6 +388,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
   int             bodytag[M2D_MAX_BODIES];
   char            what[PETSC_MAX_PATH_LEN + 64];
   double          t_start = M2dWallTime();
+  PetscErrorCode  ierr;
 
   PetscFunctionBeginUser;
   PetscCheck(eo->enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
@@ -400,9 +401,14 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
     PetscCall(Remesh(comm, s, ao, &prev, k, &msh, &tgmsh));
     PrevMeshFree(&prev);
     PetscCall(PetscSNPrintf(what, sizeof(what), "%s (adapt step %" PetscInt_FMT ")", s->geo, k));
-    PetscCall(M2dStepSolve(comm, s, &(M2dMeshSource){&msh, what}, warm, eo, &st));
-    if (k == 0) PetscCall(BodyTags(comm, s, &msh, bodytag));
+    ierr = M2dStepSolve(comm, s, &(M2dMeshSource){&msh, what}, warm, eo, &st);
+    if (!ierr && k == 0) ierr = BodyTags(comm, s, &msh, bodytag);
     MshFree(&msh);
+    if (ierr) { /* free what the loop holds, then raise */
+      PetscCall(M2dStepDestroy(&st));
+      PetscCall(ContactStateDestroy(&state));
+      PetscCall(ierr);
+    }
     seconds = M2dWallTime() - t0;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
     StepLine(comm, k, &st, seconds);

@@ -49,6 +49,7 @@ static PetscErrorCode Run(MPI_Comm comm)
   M2dEstimatorOptions eo;
   M2dAdaptOptions     ao;
   M2dStep             st;
+  PetscErrorCode      ierr;
 
   PetscFunctionBeginUser;
   PetscCall(M2dLogRegister());
@@ -65,9 +66,10 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
   PetscCall(OutputCheckPaths(comm, s.outdir, s.outname, s.summary, (PetscBool)(s.write_vtu || s.write_hdf5)));
   if (ao.enabled) PetscFunctionReturn(AdaptRun(comm, &s, &ao, &eo)); /* model only what the scene needs */
-  PetscCall(M2dStepSolve(comm, &s, NULL, NULL, &eo, &st));
-  PetscCall(M2dStepWrite(&st));
-  PetscCall(M2dStepDestroy(&st));
+  ierr = M2dStepSolve(comm, &s, NULL, NULL, &eo, &st);
+  if (!ierr) ierr = M2dStepWrite(&st);
+  PetscCall(M2dStepDestroy(&st)); /* also after an error: no leak on the error exits */
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }
 

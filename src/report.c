@@ -140,6 +140,7 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
   PetscInt    rec    = M2D_RECOVERY_SPR;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(o, sizeof(*o)));
   o->enabled = PETSC_TRUE;
   M2dSizeFieldDefaults(&o->size);
   PetscOptionsBegin(comm, NULL, "Error estimator", "");
