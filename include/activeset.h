@@ -31,14 +31,16 @@ typedef struct {
   PetscReal factor_time; /* its one factorization (seconds) */
   PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
   PetscInt  interface_unknowns;               /* separator rows + multipliers */
+  PetscInt  ksp_its_max, ksp_its_total;       /* Krylov iterations of the steps' solves (1 per direct solve) */
+  PetscInt  pc_setups;                        /* iterative path: preconditioner set-ups */
 } M2dActiveSetInfo;
 
-/* Solve pb's contact problem (on the condensed path if `condensed` and the
- * SNES type allows it, else the full path); u (layout of pb->f), lam and
+/* Solve pb's contact problem on `path` (condensed, iterative or full; the
+ * condensed path falls back to full when the SNES type asks for the VI solver); u (layout of pb->f), lam and
  * active (layout of pb->kkt.r) are created by the caller and receive the
  * displacement, the multipliers (zero off the final set) and the final set.
  * Collective. */
-PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info);
+PetscErrorCode ActiveSetSolve(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info);
 /* default complementarity parameter E* / h^2 (reference units). Not collective. */
 PetscReal      ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct);
 #endif

@@ -56,11 +56,12 @@ PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *op
  * contact rows: K + g C^T C then keeps K's pattern), stored as explicit zeros.
  * ngrp may be 0. The caller destroys *K. */
 PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt gptr[], const PetscInt gdofs[], Mat *K);
-/* Collective. The rigid-body modes of every body (2 translations and the
- * rotation about the body's centroid; bodies sharing vertices count as one) in
- * the DM's global dof layout, orthonormalised: the near-null space of K. The
- * caller destroys *sp. */
-PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, MatNullSpace *sp);
+/* Collective. The rigid-body modes (2 translations and the rotation about the
+ * centroid) of every body (per_body; bodies sharing vertices count as one),
+ * or of all bodies together (3 vectors: what an algebraic multigrid wants,
+ * since its aggregates lie in one body), in the DM's global dof layout,
+ * orthonormalised: the near-null space of K. The caller destroys *sp. */
+PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, PetscBool per_body, MatNullSpace *sp);
 /* Not collective. Cell c's corner coordinates, counter-clockwise, into xy[8]
  * (a: the local coordinate array, csec: the coordinate section). */
 void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);

@@ -17,7 +17,8 @@ typedef enum {
   M2D_PATH_LINEAR,    /* no contact pair: K u = f */
   M2D_PATH_TIED,      /* every candidate node held closed: one KKT solve */
   M2D_PATH_CONDENSED, /* active set on the multipliers, K + g C^T C factored once (condensed.h) */
-  M2D_PATH_FULL       /* active set, the KKT matrix refactored at each step */
+  M2D_PATH_FULL,      /* active set, the KKT matrix refactored at each step */
+  M2D_PATH_ITERATIVE  /* active set, multipliers eliminated, CG + AMG in u (iterative.h) */
 } M2dSolverPath;
 
 typedef struct {

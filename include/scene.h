@@ -31,6 +31,12 @@ typedef enum {
 } M2dKKTMat;
 
 typedef enum {
+  M2D_KKT_PATH_FULL,
+  M2D_KKT_PATH_CONDENSED,
+  M2D_KKT_PATH_ITERATIVE
+} M2dKKTPath;
+
+typedef enum {
   M2D_PARTITIONER_METIS,
   M2D_PARTITIONER_PETSC
 } M2dPartitioner;
@@ -104,7 +110,7 @@ typedef struct {
   PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */
   PetscReal        exact_p;         /* -exact uniform: the exact -sigma_yy */
   M2dKKTMat        kkt_mat;
-  PetscBool        condensed;    /* active set: factor once with a Schur complement (condensed.h) */
+  M2dKKTPath       kkt_path;     /* active-set solves: full, condensed (condensed.h) or iterative (iterative.h) */
   PetscReal        kkt_augment;  /* augmented-Lagrangian weight on the K block (0: off) */
   M2dOrdering      kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
   PetscBool        kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */

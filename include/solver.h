@@ -14,7 +14,8 @@ typedef struct {
   Vec              u;       /* displacement (reference units) */
   Vec              lam;     /* contact pressure per multiplier (layout of kkt.r), or NULL */
   Vec              active;  /* final active set (1/0, layout of lam), or NULL */
-  PetscInt         ksp_its; /* iterations of the linear solve (linear and tied paths) */
+  PetscInt         ksp_its;     /* iterations of the linear solve (linear and tied paths) */
+  PetscInt         ksp_its_max; /* the most iterations of any linear solve (1 for a direct one) */
   M2dActiveSetInfo as;      /* active-set paths */
   PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
 } M2dSolution;

@@ -2,6 +2,7 @@
  * SNESVINEWTONRSLS (see activeset.h). */
 #include "activeset.h"
 #include "condensed.h"
+#include "iterative.h"
 #include "optcheck.h"
 #include <petscsnes.h>
 
@@ -31,6 +32,7 @@ typedef struct {
   PetscBool     unchanged_before;
   M2dSetHistory hist;
   M2dCondensed *cond;    /* condensed path (the SNES unknown is nu, condensed.h), or NULL */
+  M2dIterative *iter;    /* iterative path (each step's solve, iterative.h), or NULL */
   Vec           cu;      /* condensed path: C u(nu) */
   Vec           all;     /* the mask on every rank (the held-bodies check) */
   VecScatter    toall;
@@ -218,6 +220,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
   PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
   if (as->cond) PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, J));
   else PetscCall(KKTSetActive(as->kkt, as->active, as->c, as->c * as->h));
+  if (as->iter) PetscCall(M2dIterativeSetActive(as->iter, as->active, as->c, as->c * as->h));
   PetscFunctionReturn(0);
 }
 
@@ -304,6 +307,16 @@ static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *n
   PetscCall(SNESSetFunction(snes, F, CondensedFunction, as));
   PetscCall(VecDestroy(&F));
   PetscCall(SNESSetJacobian(snes, *J, *J, FormJacobian, as));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode IterativePCApply(PC pc, Vec b, Vec y)
+{
+  M2dIterative *it;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &it));
+  PetscCall(M2dIterativeSolve(it, b, y));
   PetscFunctionReturn(0);
 }
 
@@ -434,11 +447,12 @@ static PetscErrorCode ContextDestroy(M2dActiveSet *as)
   PetscCall(VecDestroy(&as->all));
   PetscCall(VecScatterDestroy(&as->toall));
   PetscCall(CondensedDestroy(&as->cond));
+  PetscCall(M2dIterativeDestroy(&as->iter));
   PetscFunctionReturn(0);
 }
 
 /* newtonls with full steps (PDAS) and MUMPS LU, or vinewtonrsls; then the options database */
-static PetscErrorCode ConfigureSNES(SNES snes, M2dActiveSet *as)
+static PetscErrorCode ConfigureSNES(SNES snes, M2dActiveSet *as, M2dSolverPath path)
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)snes);
   SNESLineSearch ls;
@@ -465,7 +479,7 @@ static PetscErrorCode ConfigureSNES(SNES snes, M2dActiveSet *as)
   }
   PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESNEWTONLS, &ok));
   PetscCheck(ok || as->vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
-  PetscCall(KKTSetupKSP(as->kkt, ksp));
+  if (path != M2D_PATH_ITERATIVE) PetscCall(KKTSetupKSP(as->kkt, ksp)); /* the iterative path solves by blocks */
   PetscFunctionReturn(0);
 }
 
@@ -492,6 +506,25 @@ static PetscErrorCode SetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetIn
   info->factor_flops       = ci.flops_sum;
   info->factor_flops_max   = ci.flops_max;
   info->interface_unknowns = ci.interface_unknowns;
+  PetscFunctionReturn(0);
+}
+
+/* iterative path: each step's KKT solve by M2dIterativeSolve (a PCSHELL
+ * behind KSPPREONLY), set up by FormJacobian for the step's set */
+static PetscErrorCode SetupIterative(SNES snes, M2dActiveSet *as)
+{
+  KSP ksp;
+  PC  pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, as->iter));
+  PetscCall(PCShellSetApply(pc, IterativePCApply));
+  PetscCall(PCShellSetName(pc, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }
 
@@ -601,7 +634,7 @@ static PetscErrorCode Finish(M2dActiveSet *as, Vec z, Vec nu, Vec u, Vec lam)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info)
+PetscErrorCode ActiveSetSolve(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info)
 {
   MPI_Comm            comm = PetscObjectComm((PetscObject)u);
   M2dActiveSet        as;
@@ -614,10 +647,11 @@ PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec la
   PetscCall(PetscMemzero(info, sizeof(*info)));
   PetscCall(ContextCreate(pb, u, lam, active, &as));
   PetscCall(SNESCreate(comm, &snes));
-  PetscCall(ConfigureSNES(snes, &as));
+  PetscCall(ConfigureSNES(snes, &as, path));
+  if (path == M2D_PATH_ITERATIVE) PetscCall(SetupIterative(snes, &as));
   PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
-  if (condensed && !as.vi) PetscCall(SetupCondensed(snes, &as, info));
-  else {
+  if (path == M2D_PATH_CONDENSED && !as.vi) PetscCall(SetupCondensed(snes, &as, info));
+  else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(M2dOrderingSetupKSP(ksp, pb->s.kkt_ordering, NULL));
@@ -631,7 +665,7 @@ PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec la
   if (as.cond) PetscCall(CondensedStart(snes, &as, z, &nu, &Jc));
   else if (!as.vi) PetscCall(SNESSetJacobian(snes, pb->kkt.A, pb->kkt.A, FormJacobian, &as));
   PetscCall(SNESMonitorSet(snes, Monitor, &as, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as.cond ? "K factored once, steps on the multipliers (condensed)" : "KKT refactored each step (full)", (double)as.c, pb->kkt.nlam));
+  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as.cond ? "K factored once, steps on the multipliers (condensed)" : as.iter ? "multipliers eliminated, CG + AMG in u (iterative)" : "KKT refactored each step (full)", (double)as.c, pb->kkt.nlam));
   PetscCall(SNESSolve(snes, NULL, as.cond ? nu : z));
   PetscCall(SNESGetConvergedReason(snes, &reason));
   PetscCall(SNESGetIterationNumber(snes, &info->iterations));
@@ -643,6 +677,15 @@ PetscErrorCode ActiveSetSolve(M2dProblem *pb, PetscBool condensed, Vec u, Vec la
   info->vi        = as.vi;
   info->nactive   = as.nactive;
   info->condensed = (PetscBool)(as.cond != NULL);
+  info->ksp_its_max = 1; /* direct solves */
+  if (as.iter) {
+    M2dIterativeInfo ii;
+    PetscCall(M2dIterativeGetInfo(as.iter, &ii));
+    info->ksp_its_max   = ii.its_max;
+    info->ksp_its_total = ii.its_total;
+    info->pc_setups     = ii.setups;
+    PetscCall(PetscPrintf(comm, "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups\n", ii.solves, ii.its_total, ii.its_max, ii.setups));
+  }
   PetscCall(PetscPrintf(comm, "active set: converged in %" PetscInt_FMT " steps (%s), %" PetscInt_FMT " active nodes\n", info->iterations, SNESConvergedReasons[reason], info->nactive));
   PetscCall(SNESDestroy(&snes));
   PetscCall(VecDestroy(&z));

@@ -123,9 +123,7 @@ PetscErrorCode MeshCreateMatrix(const M2dMesh *m, PetscInt ngrp, const PetscInt 
   PetscCall(GroupCounts(ngrp, gptr, gdofs, lo, hi, dnz, onz));
   PetscCall(MatCreate(comm, K));
   PetscCall(MatSetSizes(*K, nloc, nloc, PETSC_DETERMINE, PETSC_DETERMINE));
-  /* block size 1, not 2: with 2, PETSc's MUMPS interface compresses the graph
-   * (ICNTL(15)) and then factors the singular K block of a body held only by
-   * contact (-kkt_augment 0 with fieldsplit) without reporting the zero pivot */
+  PetscCall(MatSetBlockSize(*K, 2)); /* a vertex's two dofs: AMG aggregates nodes */
   PetscCall(MatSetType(*K, MATAIJ));
   PetscCall(MatSeqAIJSetPreallocation(*K, 0, dnz));
   PetscCall(MatMPIAIJSetPreallocation(*K, 0, dnz, 0, onz));

@@ -80,7 +80,7 @@ static PetscErrorCode Orthonormalise(PetscInt n, Vec v[])
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, MatNullSpace *sp)
+PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, PetscBool per_body, MatNullSpace *sp)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
   PetscInt           nbody = 0, comp[M2D_MAX_BODIES], *vmask, *vbody, pStart, pEnd, lo, nvec = 0, idx[M2D_MAX_BODIES];
@@ -96,6 +96,8 @@ PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, MatNullSpace *sp)
   PetscCall(DMPlexGetChart(m->dm, &pStart, &pEnd));
   PetscCall(PetscCalloc2(pEnd + 1, &vmask, m->vEnd - m->vStart + 1, &vbody));
   PetscCall(BodyComponents(m, nbody, vmask, comp));
+  if (!per_body)
+    for (PetscInt b = 0; b < nbody; b++) comp[b] = 0;
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
   PetscCall(DMGetGlobalSection(m->dm, &gs));

@@ -14,7 +14,7 @@ static int  nknown;
 
 /* prefixes of the options PETSc's objects read when they are configured (the
  * first check leaves them to the second) */
-static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
+static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "iterative_", "dual_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
 
 /* PETSc options users type most, for "did you mean" and as names that are
  * legitimately unread when the path in use has no object that reads them */
@@ -71,10 +71,15 @@ static PetscBool MumpsName(const char *name)
   return (PetscBool)(end != n && !*end && k >= 1 && k <= max);
 }
 
-/* a PCFIELDSPLIT split's options, -fieldsplit_NAME_rest: the length of "fieldsplit_NAME_" (0: none) */
+/* the prefix of a solver's options: a PCFIELDSPLIT split's, -fieldsplit_NAME_rest,
+ * or the program's own solvers' (-iterative_rest: iterative.h, -dual_rest:
+ * dual.h): its length (0: none) */
 static size_t SplitPrefix(const char *name)
 {
-  const char *u;
+  static const char *const own[] = {"iterative_", "dual_"};
+  const char              *u;
+  for (size_t i = 0; i < sizeof(own) / sizeof(own[0]); i++)
+    if (!strncasecmp(name, own[i], strlen(own[i]))) return strlen(own[i]);
   if (strncasecmp(name, "fieldsplit_", 11) || !(u = strchr(name + 11, '_'))) return 0;
   return (size_t)(u + 1 - name);
 }
@@ -190,7 +195,8 @@ PetscErrorCode M2dOptionsCheckUnknown(MPI_Comm comm, PetscBool (*skip)(const cha
 
 /* unread and not excused: viewers (-X_view, -X_view_Y), converged-reason
  * reports are read when a solve ends; monitors only on the paths that have
- * the solver; the read-later prefixes and MUMPS' options (factorization);
+ * the solver; the read-later prefixes, MUMPS' options (factorization) and a
+ * multigrid's level options (its set-up);
  * known names (the program's, the common PETSc ones, also under a split's
  * -fieldsplit_NAME_ prefix) that the path in use does not read */
 static PetscBool IsUnused(const char *name, void *ctx)
@@ -202,6 +208,7 @@ static PetscBool IsUnused(const char *name, void *ctx)
   if (v && (v[5] == 0 || v[5] == '_')) return PETSC_FALSE;
   if (strstr(name, "_converged_reason") || strstr(name, "_monitor")) return PETSC_FALSE;
   if (IN_LIST(name, read_later_prefix, PETSC_TRUE) || MumpsName(rest)) return PETSC_FALSE;
+  if (!strncasecmp(rest, "mg_levels_", 10) || !strncasecmp(rest, "mg_coarse_", 10)) return PETSC_FALSE; /* read when a multigrid sets up its levels */
   if (Known(name) || Known(rest) || IN_LIST(rest, petsc_common, PETSC_FALSE)) return PETSC_FALSE;
   return PETSC_TRUE;
 }

@@ -83,7 +83,37 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   PetscFunctionReturn(0);
 }
 
-/* K (with room for C^T C), f, the supports eliminated */
+/* K's near-null space: the rigid-body modes of the bodies together (an AMG's
+ * aggregates lie in one body), in the frames' coordinates where supports
+ * are inclined (frames.h) */
+static PetscErrorCode NearNullSpace(M2dProblem *pb)
+{
+  MatNullSpace sp;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshRigidBodyModes(&pb->mesh, PETSC_FALSE, &sp));
+  if (pb->frames.any) { /* T^T z, still orthonormal (T is orthogonal per vertex) */
+    const Vec   *z;
+    Vec         *zr;
+    PetscInt     n;
+    MatNullSpace spr;
+    PetscCall(MatNullSpaceGetVecs(sp, NULL, &n, &z));
+    PetscCall(VecDuplicateVecs(z[0], n, &zr));
+    for (PetscInt i = 0; i < n; i++) {
+      PetscCall(VecCopy(z[i], zr[i]));
+      PetscCall(M2dFramesRotateGlobal(&pb->frames, &pb->mesh, zr[i], PETSC_FALSE));
+    }
+    PetscCall(MatNullSpaceCreate(PetscObjectComm((PetscObject)pb->K), PETSC_FALSE, n, zr, &spr));
+    PetscCall(VecDestroyVecs(n, &zr));
+    PetscCall(MatNullSpaceDestroy(&sp));
+    sp = spr;
+  }
+  PetscCall(MatSetNearNullSpace(pb->K, sp));
+  PetscCall(MatNullSpaceDestroy(&sp));
+  PetscFunctionReturn(0);
+}
+
+/* K (with room for C^T C, block size 2, rigid-body modes), f, the supports eliminated */
 static PetscErrorCode Assemble(M2dProblem *pb)
 {
   M2dMesh     *m = &pb->mesh;
@@ -106,6 +136,7 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
   PetscCall(ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals));
   PetscCall(PetscFree(dvals));
+  PetscCall(NearNullSpace(pb));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

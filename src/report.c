@@ -5,6 +5,7 @@
 #include "logging.h"
 #include "options.h"
 #include "util.h"
+#include <sys/resource.h>
 
 /* stress, per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises, body (user units) */
 #define M2D_CELL_FIELDS 6
@@ -22,7 +23,12 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryInt(sum, "", "bodies", pb->s.nbody);
   SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
   SummaryInt(sum, "", "ksp_iterations", sol->ksp_its);
+  SummaryInt(sum, "", "ksp_iterations_max", sol->ksp_its_max);
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
+  if (sol->path == M2D_PATH_ITERATIVE) {
+    SummaryInt(sum, "", "ksp_iterations_total", sol->as.ksp_its_total);
+    SummaryInt(sum, "", "pc_setups", sol->as.pc_setups);
+  }
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
@@ -299,9 +305,15 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
 
 PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutputSet set)
 {
-  MPI_Comm comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  MPI_Comm      comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  struct rusage ru;
+  PetscReal     mb;
 
   PetscFunctionBeginUser;
+  getrusage(RUSAGE_SELF, &ru); /* peak resident memory of this rank (Linux: kB) */
+  mb = (PetscReal)ru.ru_maxrss / 1024.0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &mb, 1, MPIU_REAL, MPIU_MAX, comm));
+  SummaryReal(sum, "", "memory_max_rank_mb", mb);
   for (int k = 0; k < M2D_STAGE_COUNT; k++) SummaryReal(sum, "time", M2dStageName[k], times[k]);
   SummaryReal(sum, "time", "total", times[M2D_STAGE_COUNT]);
   PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, contact %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * pb->mesh.nvert_global, times[0], times[1], times[2], times[3], times[4], times[5]));

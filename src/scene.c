@@ -227,7 +227,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
 static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   const char *const mats[]  = {"aij", "nest"}; /* order of M2dKKTMat */
-  const char *const paths[] = {"full", "condensed"};
+  const char *const paths[] = {"full", "condensed", "iterative"}; /* order of M2dKKTPath */
   const char *const ords[]  = {"mumps", "metis"}; /* order of M2dOrdering */
   PetscInt          k;
 
@@ -235,9 +235,9 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
   k = s->kkt_mat;
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
   s->kkt_mat = (M2dKKTMat)k;
-  k = s->condensed ? 1 : 0;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_path", "active-set solves: condensed (K + g C^T C factored once) or full (KKT each step)", paths, 2, &k));
-  s->condensed = (PetscBool)(k == 1);
+  k = s->kkt_path;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_path", "solves: condensed (factor once), full (KKT each step) or iterative (CG + AMG in u)", paths, 3, &k));
+  s->kkt_path = (M2dKKTPath)k;
   k = s->kkt_ordering;
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering for MUMPS: metis (nested dissection) or mumps (its own)", ords, 2, &k));
   s->kkt_ordering = (M2dOrdering)k;
@@ -278,7 +278,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   s->hertz_nradius    = 1;
   s->hertz_radii[0]   = 1.0;
   s->kkt_mat          = M2D_KKT_AIJ;
-  s->condensed        = PETSC_TRUE;
+  s->kkt_path         = M2D_KKT_PATH_CONDENSED;
   s->kkt_ordering     = M2D_ORDERING_METIS;
   s->kkt_ldlt         = PETSC_TRUE;
   s->icntl4           = 0;

@@ -1,8 +1,22 @@
 /* solver.c - the solver path and the linear solves (see solver.h). */
 #include "solver.h"
+#include "iterative.h"
+#include "mortar.h"
 #include "optcheck.h"
 #include <petscsnes.h>
 #include <string.h>
+
+/* -kkt_path iterative: what the elimination of the multipliers needs (iterative.h) */
+static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
+{
+  PetscFunctionBeginUser;
+  if (!s->contact_nm[0]) PetscFunctionReturn(0);
+  PetscCheck(!(s->method == M2D_CONTACT_MORTAR && s->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)");
+  PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
+  PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
+  s->kkt_mat = M2D_KKT_NEST; /* the blocks are enough: no monolithic copy */
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *path)
 {
@@ -10,12 +24,14 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *pa
   PetscBool set, vi;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
+  vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(CheckIterative(comm, s, vi));
   if (!s->contact_nm[0]) *path = M2D_PATH_LINEAR;
   else if (!s->unilateral) *path = M2D_PATH_TIED;
-  else if (!s->condensed) *path = M2D_PATH_FULL;
+  else if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) *path = M2D_PATH_ITERATIVE;
+  else if (s->kkt_path == M2D_KKT_PATH_FULL) *path = M2D_PATH_FULL;
   else {
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
-    vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
     if (s->kkt_mat == M2D_KKT_NEST || vi) {
       *path = M2D_PATH_FULL;
       PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
@@ -29,7 +45,7 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *pa
 
 const char *M2dSolverPathName(M2dSolverPath path)
 {
-  static const char *name[] = {"linear", "tied", "condensed", "full"};
+  static const char *name[] = {"linear", "tied", "condensed", "full", "iterative"};
   return name[path];
 }
 
@@ -73,6 +89,39 @@ static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal au
   SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
 }
 
+/* -kkt_path iterative without the active set: K u = f by CG + AMG, or every
+ * candidate held closed by the elimination of iterative.h */
+static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)pb->K);
+
+  PetscFunctionBeginUser;
+  if (sol->path == M2D_PATH_LINEAR) {
+    KSP ksp;
+    PetscCall(M2dIterativeCreateKSP(comm, &ksp));
+    PetscCall(KSPSetOperators(ksp, pb->K, pb->K));
+    PetscCall(M2dOptionsCheckUnused(comm));
+    PetscCall(KSPSolve(ksp, pb->f, sol->u));
+    PetscCall(LinearSolveFailed(ksp, PETSC_FALSE, 0));
+    PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
+    PetscCall(KSPDestroy(&ksp));
+  } else {
+    M2dIterative    *it;
+    M2dIterativeInfo ii;
+    PetscCall(M2dIterativeCreate(&pb->kkt, &pb->Rkkt, pb->ndir, pb->drows, &it));
+    PetscCall(M2dOptionsCheckUnused(comm));
+    PetscCall(VecSet(sol->active, 1.0));
+    PetscCall(M2dIterativeSetActive(it, sol->active, 1.0, 1.0)); /* rows C_j u = r_j */
+    PetscCall(M2dIterativeSolve(it, pb->kkt.b, pb->kkt.x));
+    PetscCall(VecISCopy(pb->kkt.x, pb->kkt.isu, SCATTER_REVERSE, sol->u));
+    PetscCall(VecISCopy(pb->kkt.x, pb->kkt.isl, SCATTER_REVERSE, sol->lam));
+    PetscCall(M2dIterativeGetInfo(it, &ii));
+    sol->ksp_its = ii.its_max;
+    PetscCall(M2dIterativeDestroy(&it));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* no contact, or every candidate held closed: one linear solve */
 static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
 {
@@ -80,6 +129,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   PetscBool contact = (PetscBool)(sol->path == M2D_PATH_TIED);
 
   PetscFunctionBeginUser;
+  if (pb->s.kkt_path == M2D_KKT_PATH_ITERATIVE) PetscFunctionReturn(SolveLinearIterative(pb, sol));
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)pb->K), &ksp));
   PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
   PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
@@ -106,8 +156,13 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *s
     PetscCall(VecDuplicate(pb->kkt.r, &sol->lam));
     PetscCall(VecDuplicate(pb->kkt.r, &sol->active));
   }
-  if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) PetscCall(SolveLinear(pb, sol));
-  else PetscCall(ActiveSetSolve(pb, path == M2D_PATH_CONDENSED, sol->u, sol->lam, sol->active, &sol->as));
+  if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) {
+    PetscCall(SolveLinear(pb, sol));
+    sol->ksp_its_max = sol->ksp_its;
+  } else {
+    PetscCall(ActiveSetSolve(pb, path, sol->u, sol->lam, sol->active, &sol->as));
+    sol->ksp_its_max = sol->as.ksp_its_max;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -118,6 +173,8 @@ PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s)
   PetscFunctionBeginUser;
   PetscCall(KSPCreate(comm, &ksp));
   PetscCall(SetupLinearKSP(ksp, s->kkt_ordering));
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(M2dIterativeCreateKSP(comm, &ksp));
   PetscCall(KSPDestroy(&ksp));
   PetscFunctionReturn(0);
 }
