@@ -93,6 +93,11 @@ static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt, Vec fk)
   sc /= PetscMax(1, 2 * kkt->nlam);
   kkt->gamma = sc > 0 ? w * sk / sc : 0;
   PetscCall(MatDuplicate(kkt->K, MAT_COPY_VALUES, &kkt->Kblk));
+  {
+    MatNullSpace nsp;
+    PetscCall(MatGetNearNullSpace(kkt->K, &nsp));
+    if (nsp) PetscCall(MatSetNearNullSpace(kkt->Kblk, nsp)); /* an AMG on the u split (fieldsplit) */
+  }
   PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN)); /* K holds C^T C's pattern (MeshCreateMatrix) */
   PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
   PetscCall(VecAXPY(fk, kkt->gamma, dk));

@@ -1,0 +1,71 @@
+"""The iterative path (-kkt_path iterative, src/iterative.c): the multipliers
+eliminated row by row and CG + GAMG in u.
+ 1. Hertz levels 0-2 (dual multipliers), the eccentric S2 load (dual
+    multipliers, and NTS) on 1, 2 and 3 ranks: the same active-set steps and
+    active set as the condensed path on one rank, displacement and pressure
+    equal to 1e-8 of their maxima; the answer's own checks hold
+    (residual_rel < 1e-10); the most CG iterations of a step stays below 60;
+ 2. the S2 patch test passes on it (unilateral, tied) and a block without
+    contact (the linear solve) is exact;
+ 3. K's block size and near-null space make PETSc's own AMG work from the
+    options database on the default (direct) paths' linear solve:
+    -ksp_type cg -pc_type gamg on the block and on S2 tied through fieldsplit;
+ 4. the summary's ksp_iterations_max and memory_max_rank_mb on every path;
+ 5. what it cannot do is one line: standard multipliers, -kkt_augment,
+    vinewtonrsls."""
+import numpy as np
+from m2d import check, mesh, opts, run, solve, sorted_fields, workdir
+
+cases = [("hertz_%d" % lv, ["-options_file", opts("hertz"), "-mesh", mesh("hertz_%d" % lv)]) for lv in (0, 1, 2)]
+ecc = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_10_31"), "-pressure", "upper_top:-1e6:4e6:0", "-exact", "none"]
+cases.append(("s2_eccentric_dual", ecc + ["-mortar_basis", "dual"]))
+cases.append(("s2_eccentric_nts", ecc + ["-contact_method", "nts"]))
+
+# ---------------------------------------------------------------- 1. = the condensed path
+for name, base in cases:
+    common = base + ["-output_name", "sol", "-output_vtu", "0", "-contact_monitor", "0"]
+    ref = solve("iter_%s_ref" % name, common + ["-kkt_path", "condensed"])
+    vr = sorted_fields(workdir("iter_%s_ref" % name) + "/sol.h5")[0]
+    for nr in (1, 2, 3):
+        tag = "iter_%s_%d" % (name, nr)
+        s = solve(tag, common + ["-kkt_path", "iterative"], ranks=nr)
+        v = sorted_fields(workdir(tag) + "/sol.h5")[0]
+        check(s["kkt_path"] == "iterative" and s["ranks"] == nr, "%s %d rank(s): ran the %s path" % (name, nr, s["kkt_path"]))
+        check(s["iterations"] == ref["iterations"] and s["active_nodes"] == ref["active_nodes"],
+              "%s %d rank(s): %d steps, %d active (condensed: %d, %d)" % (name, nr, s["iterations"], s["active_nodes"], ref["iterations"], ref["active_nodes"]))
+        du = np.abs(v["displacement"] - vr["displacement"]).max() / np.abs(vr["displacement"]).max()
+        dp = np.abs(v["contact_pressure"] - vr["contact_pressure"]).max() / np.abs(vr["contact_pressure"]).max()
+        check(du < 1e-8 and dp < 1e-8, "%s %d rank(s): displacement %.1e, pressure %.1e of the condensed path's" % (name, nr, du, dp))
+        check(s["residual_rel"] < 1e-10 and s["complementarity"] < 1e-10, "%s %d rank(s): residual %.1e, complementarity %.1e" % (name, nr, s["residual_rel"], s["complementarity"]))
+        check(1 < s["ksp_iterations_max"] <= 60, "%s %d rank(s): at most %d CG iterations in a step (%d in all, %d preconditioner set-ups)" % (name, nr, s["ksp_iterations_max"], s["ksp_iterations_total"], s["pc_setups"]))
+
+# ---------------------------------------------------------------- 2. exact fields
+for tag, extra in (("iter_s2", []), ("iter_s2_tied", ["-contact_unilateral", "0"])):
+    s = solve(tag, ["-options_file", opts("patch_uniform"), "-mortar_basis", "dual", "-kkt_path", "iterative"] + extra, ranks=2)
+    e = max(s["error"][k] for k in ("sigma_yy_max_rel", "sigma_xx_max_rel", "sigma_xy_max_rel"))
+    check(e < 1e-10 and s["kkt_path"] == ("iterative" if not extra else "tied"), "%s (%s path, 2 ranks): S2 patch test %.1e, %d CG iterations" % (tag, s["kkt_path"], e, s["ksp_iterations_max"]))
+s = solve("iter_block", ["-options_file", opts("block"), "-mesh", mesh("block_16"), "-kkt_path", "iterative"])
+check(s["error"]["sigma_yy_max_rel"] < 1e-10 and s["ksp_iterations_max"] > 1, "block, linear solve by CG + GAMG: uniform stress %.1e, %d iterations" % (s["error"]["sigma_yy_max_rel"], s["ksp_iterations_max"]))
+
+# ---------------------------------------------------------------- 3. PETSc's AMG from the options database
+amg = ["-ksp_type", "cg", "-pc_type", "gamg", "-ksp_rtol", "1e-12"]
+s = solve("iter_block_gamg", ["-options_file", opts("block"), "-mesh", mesh("block_32")] + amg, ranks=2)
+check(s["error"]["sigma_yy_max_rel"] < 1e-9 and 1 < s["ksp_iterations"] <= 30, "block 32x32, -pc_type gamg on the direct path's solve (2 ranks): %.1e in %d iterations (block size 2 and rigid-body modes)" % (s["error"]["sigma_yy_max_rel"], s["ksp_iterations"]))
+s = solve("iter_s2_fieldsplit_gamg", ["-options_file", opts("patch_uniform"), "-options_file", opts("kkt_fieldsplit"), "-contact_unilateral", "0",
+                                      "-fieldsplit_u_ksp_type", "cg", "-fieldsplit_u_pc_type", "gamg", "-fieldsplit_u_ksp_rtol", "1e-13", "-ksp_rtol", "1e-12"])
+e = max(s["error"][k] for k in ("sigma_yy_max_rel", "sigma_xx_max_rel", "sigma_xy_max_rel"))
+check(e < 1e-8, "S2 tied, fieldsplit with GAMG on the u block: patch test %.1e" % e)
+
+# ---------------------------------------------------------------- 4. summary keys on every path
+for path in ("condensed", "full"):
+    s = solve("iter_keys_%s" % path, ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_path", path])
+    check(s["kkt_path"] == path and s["ksp_iterations_max"] == 1 and 10 < s["memory_max_rank_mb"] < 4096, "%s: ksp_iterations_max %d, memory_max_rank_mb %.0f" % (path, s["ksp_iterations_max"], s["memory_max_rank_mb"]))
+
+# ---------------------------------------------------------------- 5. one line for what it cannot do
+bad = [("standard multipliers", ["-options_file", opts("patch_uniform")], "-mortar_basis dual"),
+       ("-kkt_augment", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_augment", "1"], "-kkt_augment"),
+       ("vinewtonrsls", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-snes_type", "vinewtonrsls"], "vinewtonrsls")]
+for what, args, name in bad:
+    rc, out, err = run(args + ["-kkt_path", "iterative", "-output_dir", workdir("iter_bad")], check=False)
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    check(rc == 1 and len(lines) == 1 and name in lines[0], "%s: one line naming %s: %s" % (what, name, lines[-1] if lines else "(none)"))
