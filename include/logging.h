@@ -16,7 +16,8 @@ typedef enum {
 } M2dStageId;
 
 typedef enum {
-  M2D_EV_MESH_READ,      /* read and merge the .msh files (rank 0) */
+  M2D_EV_MESH_CREATE,    /* the whole mesh stage of MeshCreate */
+  M2D_EV_MESH_READ,      /* read and merge the .msh files (rank 0), or load the .h5 */
   M2D_EV_MESH_EDGES,     /* the skeleton: every edge once, group entries */
   M2D_EV_MESH_PARTITION, /* METIS partition of the cells */
   M2D_EV_MESH_PLEX,      /* the DMPlex from the lists */
@@ -30,6 +31,10 @@ typedef enum {
   M2D_EV_INTERFACE,      /* condensed path: the dense interface (separator + multipliers) */
   M2D_EV_MUMPS_SOLVE,    /* condensed path: MUMPS condensation and expansion */
   M2D_EV_VERIFY,         /* the answer's own checks: equilibrium, complementarity, refinement */
+  M2D_EV_METIS_ORDER,    /* METIS nested dissection of one matrix (ordering.c) */
+  M2D_EV_ITER_SETUP,     /* iterative path: P, P^T K P and the preconditioner's set-up for a step */
+  M2D_EV_ITER_SOLVE,     /* iterative path: one step's elimination and Krylov solve */
+  M2D_EV_ESTIMATE,       /* the error estimate */
   M2D_EV_COUNT
 } M2dEventId;
 
@@ -37,6 +42,7 @@ extern PetscLogStage M2dStage[M2D_STAGE_COUNT];
 extern PetscLogEvent M2dEvent[M2D_EV_COUNT];
 extern const char   *M2dStageName[M2D_STAGE_COUNT]; /* "mesh", "contact", ... (summary keys) */
 
-/* Register every stage and event once (later calls do nothing). Not collective. */
+/* Register every stage and event once (later calls do nothing; modules that
+ * can be used alone call it too). Not collective. */
 PetscErrorCode M2dLogRegister(void);
 #endif

@@ -3,6 +3,7 @@
  * size field (see estimator.h for the formulas). */
 #include "estimator.h"
 #include "elasticity.h"
+#include "logging.h"
 #include <string.h>
 
 static const PetscReal g2[2] = {-0.57735026918962576451, 0.57735026918962576451};
@@ -457,7 +458,6 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContact *ct, const Sur
   PetscFunctionReturn(0);
 }
 
-static PetscLogEvent ev_estimate; /* -log_view: the whole estimate */
 
 PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], M2dErrorEstimate *e)
 {
@@ -471,9 +471,9 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   Surf       sf;
 
   PetscFunctionBeginUser;
-  if (!ev_estimate) PetscCall(PetscLogEventRegister("M2dEstimate", DM_CLASSID, &ev_estimate));
+  PetscCall(M2dLogRegister());
   PetscCheck(!ct || ct->pressure || ct->R.n == 0, comm, PETSC_ERR_ORDER, "M2dEstimateError: call ContactResults first");
-  PetscCall(PetscLogEventBegin(ev_estimate, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscCall(PetscMemzero(e, sizeof(*e)));
   PetscCall(CtxOpen(m, s, u, &ul, &x));
   PetscCall(CreateRecoveryDM(m, &dmr));
@@ -507,7 +507,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   PetscCall(PetscFree2(sv, has));
   PetscCall(DMDestroy(&dmr));
   PetscCall(CtxClose(&ul, &x));
-  PetscCall(PetscLogEventEnd(ev_estimate, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 

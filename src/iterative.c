@@ -1,6 +1,7 @@
 /* iterative.c - the multipliers eliminated row by row, a sparse SPD system in
  * u solved by CG + algebraic multigrid (see iterative.h). */
 #include "iterative.h"
+#include "logging.h"
 #include "util.h"
 #include <petscksp.h>
 
@@ -359,6 +360,7 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   M2dIterative *it;
 
   PetscFunctionBeginUser;
+  PetscCall(M2dLogRegister());
   PetscCall(PetscNew(&it));
   it->comm = PetscObjectComm((PetscObject)kkt->K);
   it->K    = kkt->K;
@@ -427,6 +429,7 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   MatNullSpace       nsp;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SETUP], 0, 0, 0, 0));
   it->c     = c;
   it->scale = scale;
   PetscCall(VecCopy(active, it->mask));
@@ -458,7 +461,9 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   PetscCall(VecDestroy(&dS));
   PetscCall(KSPSetOperators(it->ksp, it->Ar, it->Ar));
   PetscCall(ReusePreconditioner(it, on));
+  PetscCall(KSPSetUp(it->ksp)); /* the preconditioner's set-up, unless reused */
   PetscCall(VecRestoreArrayRead(it->all, &on));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SETUP], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -484,6 +489,7 @@ PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
   PetscInt           n, its;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
   PetscCall(VecISCopy(b, it->isu, SCATTER_REVERSE, it->bu));
   PetscCall(VecISCopy(b, it->isl, SCATTER_REVERSE, it->bl));
   /* inactive rows: dl_j = -(c / scale) b_j; active rows: C_j du = t_j = b_j / scale */
@@ -520,6 +526,7 @@ PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
   it->info.solves++;
   it->its_last = its;
   if (it->its_built < 0) it->its_built = its;
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
   it->info.its_total += its;
   it->info.its_max = PetscMax(it->info.its_max, its);
   PetscFunctionReturn(0);

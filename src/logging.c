@@ -6,7 +6,7 @@ PetscLogEvent M2dEvent[M2D_EV_COUNT];
 const char   *M2dStageName[M2D_STAGE_COUNT] = {"mesh", "contact", "assembly", "solve", "output"};
 
 static const char *stage_label[M2D_STAGE_COUNT] = {"Mesh", "Contact", "Assembly", "Solve", "Output"};
-static const char *event_name[M2D_EV_COUNT]     = {"M2dMeshRead", "M2dMeshEdges", "M2dMeshPartition", "M2dMeshPlex", "M2dPrealloc", "M2dElements", "M2dDirichlet", "M2dKKT", "M2dCondOrder", "M2dMumpsAnalysis", "M2dMumpsFactor", "M2dInterface", "M2dMumpsSolve", "M2dVerify"};
+static const char *event_name[M2D_EV_COUNT]     = {"M2dMeshCreate", "M2dMeshRead", "M2dMeshEdges", "M2dMeshPartition", "M2dMeshPlex", "M2dPrealloc", "M2dElements", "M2dDirichlet", "M2dKKT", "M2dCondOrder", "M2dMumpsAnalysis", "M2dMumpsFactor", "M2dInterface", "M2dMumpsSolve", "M2dVerify", "M2dMetisOrder", "M2dIterSetUp", "M2dIterSolve", "M2dEstimate"};
 
 PetscErrorCode M2dLogRegister(void)
 {

@@ -7,20 +7,6 @@
 #include "util.h"
 #include <string.h>
 
-PetscLogEvent M2D_EV_MESH_CREATE, M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
-
-static PetscErrorCode RegisterEvents(void)
-{
-  PetscFunctionBeginUser;
-  if (M2D_EV_MESH_READ) PetscFunctionReturn(0);
-  PetscCall(PetscLogEventRegister("M2dMeshCreate", DM_CLASSID, &M2D_EV_MESH_CREATE));
-  PetscCall(PetscLogEventRegister("M2dMeshRead", DM_CLASSID, &M2D_EV_MESH_READ));
-  PetscCall(PetscLogEventRegister("M2dMeshEdges", DM_CLASSID, &M2D_EV_MESH_EDGES));
-  PetscCall(PetscLogEventRegister("M2dMeshPartition", DM_CLASSID, &M2D_EV_MESH_PARTITION));
-  PetscCall(PetscLogEventRegister("M2dMeshPlex", DM_CLASSID, &M2D_EV_MESH_PLEX));
-  PetscFunctionReturn(0);
-}
-
 static void LabelName(const char *group, char *out, size_t len)
 {
   snprintf(out, len, "m2d:%s", group);
@@ -66,9 +52,9 @@ static PetscErrorCode BuildPlex(MPI_Comm comm, const M2dScene *s, const MeshSkel
     PetscCall(MeshBuildDistributed(comm, sk, L, dm, pbody, lab, nlab));
     PetscFunctionReturn(0);
   }
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_PLEX, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_PLEX], 0, 0, 0, 0));
   PetscCall(MeshPlexFromLists(comm, nc, nv, ne, sk->side, sk->ornt, sk->ev, L->coords, dm));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_PLEX, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_PLEX], 0, 0, 0, 0));
   PetscCall(PetscMalloc1(nc + nv + ne + 1, pbody));
   for (PetscInt p = 0; p < nc + nv + ne; p++) (*pbody)[p] = p < nc ? L->cellbody[p] : -1;
   PetscCall(PetscMalloc1(2 * L->nent + 1, lab));
@@ -89,11 +75,11 @@ static PetscErrorCode DistributeWithPetsc(const M2dScene *s, DM *dm, PetscInt **
   PetscPartitioner part;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_PARTITION], 0, 0, 0, 0));
   PetscCall(DMPlexGetPartitioner(*dm, &part));
   PetscCall(PetscPartitionerSetFromOptions(part));
   PetscCall(DMPlexDistribute(*dm, 0, &mig, &dist));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_PARTITION], 0, 0, 0, 0));
   if (dist) {
     PetscInt pStart, pEnd, *nb;
     PetscCall(DMPlexGetChart(dist, &pStart, &pEnd));
@@ -256,10 +242,10 @@ PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, P
 static PetscErrorCode SkeletonAndGroups(const M2dScene *s, const M2dMesh *m, const MeshSources *src, MeshLists *L, MeshSkel *sk, char *err, size_t len)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_EDGES, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscCall(MeshSkelBuild(L->nc, L->nv, L->cells, sk));
   if (!MeshCheckSkeleton(s, src, L, sk, err, len)) PetscCall(MeshGroupEntries(m, src, L, sk, err, len));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_EDGES, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -281,9 +267,9 @@ static PetscErrorCode MeshBuild(MPI_Comm comm, M2dScene *s, const MeshSources *s
   PetscCall(PetscMemzero(&sk, sizeof(sk)));
   PetscCall(PetscStrncpy(m->files, src->all, sizeof(m->files)));
   PetscCall(PetscCalloc1(1, &ri));
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   if (rank == 0 && MeshMerge(s, src, ri, &L) && !ri->err[0]) PetscCall(PetscStrncpy(ri->err, "cannot merge the meshes", sizeof(ri->err)));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   PetscCall(ShareReadInfo(comm, s, m, ri, &L));
   PetscCall(PetscFree(ri));
   if (rank == 0) PetscCall(SkeletonAndGroups(s, m, src, &L, &sk, err, sizeof(err)));
@@ -310,7 +296,7 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(m, sizeof(*m)));
-  PetscCall(RegisterEvents());
+  PetscCall(M2dLogRegister());
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   bad = (PetscBool)(rank == 0 && (!msh || nmsh < 1));
   PetscCall(M2dCheckCollective(comm, bad, "MeshCreateFromMsh: no mesh given"));
@@ -347,9 +333,9 @@ static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(PetscMemzero(msh, sizeof(msh)));
   PetscCall(PetscSNPrintf(all, sizeof(all), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
   for (PetscInt f = 0; f < s->nmesh; f++) PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) MshRead(s->mesh[f], &msh[f], err, sizeof(err));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   if (err[0])
     for (int f = 0; f < 2; f++) MshFree(&msh[f]);
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
@@ -369,14 +355,14 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(m, sizeof(*m)));
-  PetscCall(RegisterEvents());
+  PetscCall(M2dLogRegister());
   PetscCall(MeshReadOptions(comm, save, sizeof(save)));
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_CREATE, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   if (MeshIsHDF5(s->mesh[0])) PetscCall(MeshLoad(comm, s, s->mesh[0], m));
   else PetscCall(CreateFromFiles(comm, s, m));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_CREATE, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   if (save[0]) PetscCall(MeshSave(m, s, save));
   PetscFunctionReturn(0);
 }

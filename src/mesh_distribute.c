@@ -252,9 +252,9 @@ static PetscErrorCode BuildFromPackage(MPI_Comm comm, PetscInt ibuf[], const Pet
   PetscCall(PetscMemcpy(&h, ibuf, sizeof(h)));
   PackLayout(ibuf, &h, &pl);
   np = h.ncell + h.nvert + h.nedge;
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_PLEX, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_PLEX], 0, 0, 0, 0));
   PetscCall(MeshPlexFromLists(comm, h.ncell, h.nvert, h.nedge, pl.cone, pl.ornt, pl.econe, rbuf, dm));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_PLEX, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_PLEX], 0, 0, 0, 0));
   PetscCall(PetscMalloc1(h.nleaf + 1, &ilocal));
   PetscCall(PetscMalloc1(h.nleaf + 1, &iremote));
   for (PetscInt i = 0; i < h.nleaf; i++) {
@@ -290,9 +290,9 @@ PetscErrorCode MeshBuildDistributed(MPI_Comm comm, const MeshSkel *sk, const Mes
   PetscCallMPI(MPI_Comm_size(comm, &R.size));
   if (rank == 0) {
     PetscCall(PetscMalloc1(sk->nc + 1, &R.where));
-    PetscCall(PetscLogEventBegin(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
+    PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_PARTITION], 0, 0, 0, 0));
     PetscCall(PartitionCells(sk, R.size, R.where, err, sizeof(err)));
-    PetscCall(PetscLogEventEnd(M2D_EV_MESH_PARTITION, 0, 0, 0, 0));
+    PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_PARTITION], 0, 0, 0, 0));
     if (err[0]) PetscCall(PetscFree(R.where));
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));

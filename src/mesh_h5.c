@@ -244,9 +244,9 @@ PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m
   for (PetscInt b = 0; b < M2D_MAX_BODIES; b++) bmap[b] = -1, saved[b][0] = 0;
   if (rank == 0) PetscCall(CheckFile(path, err, sizeof(err)));
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
-  PetscCall(PetscLogEventBegin(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   PetscCall(LoadPlex(comm, path, s, m, bmap, saved, &dm));
-  PetscCall(PetscLogEventEnd(M2D_EV_MESH_READ, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   ierr = BodiesFromLabel(dm, path, bmap, saved, &pbody);
   if (ierr) PetscCall(DMDestroy(&dm));
   PetscCall(ierr);

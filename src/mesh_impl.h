@@ -13,11 +13,9 @@
  *   mesh_h5.c          the mesh in PETSc's HDF5 format: -mesh_save, -mesh F.h5 */
 #ifndef M2D_MESH_IMPL_H
 #define M2D_MESH_IMPL_H
+#include "logging.h"
 #include "mesh.h"
 #include <petscsf.h>
-
-/* phases of the mesh stage (-log_view; MeshCreate: the whole of it), registered by MeshCreate* */
-extern PetscLogEvent M2D_EV_MESH_CREATE, M2D_EV_MESH_READ, M2D_EV_MESH_EDGES, M2D_EV_MESH_PARTITION, M2D_EV_MESH_PLEX;
 
 #define M2D_ERR_LEN 2048
 

@@ -1,5 +1,6 @@
 /* ordering.c - METIS nested dissection for MUMPS (see ordering.h). */
 #include "ordering.h"
+#include "logging.h"
 #include <metis.h>
 
 /* sorted closed neighbourhood of every row (the row itself included) */
@@ -120,7 +121,8 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
   PetscLogEvent   ev;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventRegister("M2dMetisOrder", MAT_CLASSID, &ev)); /* registered once: PETSc returns the known event */
+  PetscCall(M2dLogRegister());
+  ev = M2dEvent[M2D_EV_METIS_ORDER];
   PetscCall(PetscObjectBaseTypeCompare((PetscObject)A, MATSEQAIJ, &seq));
   PetscCheck(seq, PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "option -kkt_ordering metis: needs a sequential AIJ matrix (one rank)");
   PetscCall(PetscLogEventBegin(ev, A, 0, 0, 0));
