@@ -31,6 +31,7 @@ typedef struct {
   PetscReal factor_time; /* its one factorization (seconds) */
   PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
   PetscInt  interface_unknowns;               /* separator rows + multipliers */
+  struct M2dCondensed *factor;                /* with pb->keep_factor: the condensed path's factorization, the caller's to free (CondensedDestroy), or NULL */
 } M2dActiveSetInfo;
 
 /* Solve pb's contact problem (on the condensed path if `condensed` and the

@@ -76,7 +76,7 @@ static int LoadGmsh(Ctx *c)
   static void *lib;
   void        *h;
   if (lib) return 0;
-  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
+  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
 #define X(f) \
   if (!(*(void **)&G.f = dlsym(h, #f))) return Fail(c, "gmsh's library %s has no function %s", M2D_GMSH_LIBRARY, #f);
   GMSH_FUNCTIONS(X)

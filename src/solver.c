@@ -1,5 +1,6 @@
 /* solver.c - the solver path and the linear solves (see solver.h). */
 #include "solver.h"
+#include "condensed.h"
 #include "optcheck.h"
 #include <petscsnes.h>
 #include <string.h>
@@ -129,5 +130,6 @@ PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
   PetscCall(VecDestroy(&sol->lam));
   PetscCall(VecDestroy(&sol->active));
   PetscCall(PetscFree(sol->eta));
+  PetscCall(CondensedDestroy(&sol->as.factor));
   PetscFunctionReturn(0);
 }
