@@ -54,7 +54,9 @@ static int Fail(Ctx *c, const char *fmt, ...)
 
 /* gmsh's library is loaded on the first call (dlopen), not linked: it pulls in
  * some 80 libraries (OpenCASCADE, FLTK, ...) whose start-up every run of the
- * program would pay, remeshing or not. */
+ * program would pay, remeshing or not. RTLD_DEEPBIND: their symbols are
+ * looked up in their own dependencies first, not through the long list of
+ * PETSc's libraries already loaded (most of the cost of the dlopen). */
 #ifndef M2D_GMSH_LIBRARY
 #define M2D_GMSH_LIBRARY "libgmsh.so.4.8"
 #endif
