@@ -14,7 +14,10 @@
  * cell's primal error by the dual's, eta_K(u) eta_K(z) (dual-weighted
  * residuals with recovered stresses): cells far from the contact zone, whose
  * error barely moves the pressure, weigh little; the edge of the zone weighs
- * most. One extra factorization of the KKT matrix (MUMPS LU). */
+ * most. On the condensed path the primal's factorization is kept
+ * (M2dProblem.keep_factor) and the dual costs one dense LU on the multipliers
+ * and one substitution; on the other paths, one factorization of the KKT
+ * matrix (MUMPS LU). */
 #ifndef M2D_DUAL_H
 #define M2D_DUAL_H
 #include "solver.h"

@@ -38,6 +38,7 @@ typedef struct {
   M2dContactRows  Rkkt;     /* with frames: the contact rows in the frames' coordinates (the KKT's) */
   M2dKKT          kkt;   /* with contact */
   PetscBool      *warm;  /* with contact: the first active set (one per multiplier, every rank), or NULL */
+  PetscBool       keep_factor; /* condensed path: keep the factorization for later solves (M2dActiveSetInfo.factor) */
 } M2dProblem;
 
 /* Mesh stage: the mesh of scene `user` (its -mesh files, or msh on rank 0

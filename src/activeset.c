@@ -672,6 +672,10 @@ PetscErrorCode ActiveSetSolve(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam
   if (as.cond) info->iterations++; /* the first set was solved before the SNES (CondensedStart) */
   if (reason <= 0) PetscCall(Failed(snes, &as, reason, info->iterations));
   PetscCall(Finish(&as, z, nu, u, lam));
+  if (pb->keep_factor) { /* handed over: ContextDestroy leaves it */
+    info->factor = as.cond;
+    as.cond      = NULL;
+  }
   info->cycles    = as.hist.cycles;
   info->c         = as.c;
   info->vi        = as.vi;

@@ -336,9 +336,10 @@ PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x)
 }
 
 /* u(nu): the separator from the interface, x_s = L^-T (z - X nu), then every
- * rank's interior by MUMPS' expansion phase from x_s, nu and the condensed f
- * (condensed again first when an earlier recovery has consumed it) */
-PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
+ * rank's interior by MUMPS' expansion phase from x_s, nu and the condensed
+ * right-hand side: f (condensed again first when an earlier recovery has
+ * consumed it), or zero without the load (z = 0 then) */
+static PetscErrorCode Recover(M2dCondensed *cs, Vec nu, Vec u, PetscBool load)
 {
   const RowSplit    *sp = &cs->split;
   LocalFactor       *lf = &cs->local;
@@ -350,7 +351,10 @@ PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MUMPS_SOLVE], 0, 0, 0, 0));
-  if (!lf->condensed) {
+  if (!load) {
+    PetscCall(PetscArrayzero(lf->rhs, nI + lf->nschur));
+    PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_CONDENSE, lf->rhs, lf->red));
+  } else if (!lf->condensed) {
     PetscCall(PetscArraycpy(lf->rhs, lf->f_local, nI + lf->nschur));
     PetscCall(M2dMumpsSolve(lf->mumps, M2D_MUMPS_CONDENSE, lf->rhs, lf->red));
   }
@@ -359,7 +363,8 @@ PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
   if (ns > 0) {
     PetscCall(PetscBLASIntCast(ns, &bs));
     PetscCall(PetscBLASIntCast(N, &bN));
-    PetscCall(PetscArraycpy(g, di->z, ns));
+    if (load) PetscCall(PetscArraycpy(g, di->z, ns));
+    else PetscCall(PetscArrayzero(g, ns));
     if (N > 0) PetscCallBLAS("BLASgemv", BLASgemv_("N", &bs, &bN, &mone, di->X, &bs, v, &ione, &one, g, &ione));
     PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "T", "N", &bs, &ione, &one, di->L, &bs, g, &bs));
   }
@@ -372,6 +377,20 @@ PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
   for (PetscInt i = 0; i < sp->u1 - sp->u0; i++) ua[i] = sp->row[i].kind == UNKNOWN_INTERIOR ? lf->rhs[sp->row[i].index] : g[sp->row[i].index];
   PetscCall(VecRestoreArrayWrite(u, &ua));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MUMPS_SOLVE], 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Recover(cs, nu, u, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CondensedRecoverUnloaded(M2dCondensed *cs, Vec nu, Vec u)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Recover(cs, nu, u, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 

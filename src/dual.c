@@ -1,5 +1,6 @@
 /* dual.c - the dual problem of the contact pressure (see dual.h). */
 #include "dual.h"
+#include "condensed.h"
 
 /* omega_j, every multiplier, every rank: the pressure's interpolation-error
  * indicator h^2 |lambda''| / 8 along the non-mortar surface (second
@@ -56,36 +57,70 @@ static PetscErrorCode DualWeights(const M2dProblem *pb, const M2dSolution *sol, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dDualSolve(M2dProblem *pb, const M2dSolution *sol, Vec z)
+/* b_j = w_j omega_j on the final active set, 0 elsewhere (layout of the multipliers) */
+static PetscErrorCode DualLoad(const M2dProblem *pb, const M2dSolution *sol, Vec b)
 {
-  MPI_Comm           comm = PetscObjectComm((PetscObject)z);
-  M2dScene           s    = pb->s;
-  M2dKKT             dk;
-  KSP                ksp;
-  PC                 pc;
-  Vec                rhs;
   const PetscScalar *a;
   PetscScalar       *r;
   PetscReal         *omega;
   PetscInt           lo, hi;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(pb->contact.R.n + 1, &omega));
+  PetscCall(DualWeights(pb, sol, omega));
+  PetscCall(VecGetOwnershipRange(b, &lo, &hi));
+  PetscCall(VecGetArrayRead(sol->active, &a));
+  PetscCall(VecGetArrayWrite(b, &r));
+  for (PetscInt j = lo; j < hi; j++) r[j - lo] = PetscRealPart(a[j - lo]) != 0 ? pb->contact.R.w[j] * omega[j] : 0.0;
+  PetscCall(VecRestoreArrayWrite(b, &r));
+  PetscCall(VecRestoreArrayRead(sol->active, &a));
+  PetscCall(PetscFree(omega));
+  PetscFunctionReturn(0);
+}
+
+/* With the primal's condensed factorization (K_g = K + g C^T C, condensed.h):
+ * K z + C^T mu = 0 is K_g z + C^T nu = 0 with nu = mu - g C z, so z =
+ * -K_g^-1 C^T nu and C z = S0 nu; the rows are S0 nu = b (active) and mu =
+ * nu + g S0 nu = 0 (inactive): the dense Jacobian of the active-set steps on
+ * the final set (c = h = 1), one dense LU of the multipliers, then one
+ * substitution without the load */
+static PetscErrorCode DualSolveCondensed(M2dCondensed *cs, const M2dSolution *sol, Vec b, Vec z)
+{
+  Mat      J;
+  Vec      nu;
+  PetscInt n, N;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(b, &n));
+  PetscCall(VecGetSize(b, &N));
+  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)b), n, n, N, N, NULL, &J));
+  PetscCall(CondensedJacobian(cs, sol->active, 1.0, 1.0, J)); /* active rows S0, inactive -(I + g S0) */
+  PetscCall(CondensedJacobianFactor(cs, J));
+  PetscCall(VecDuplicate(b, &nu));
+  PetscCall(CondensedJacobianSolve(cs, b, nu));
+  PetscCall(CondensedRecoverUnloaded(cs, nu, z));
+  PetscCall(VecDestroy(&nu));
+  PetscCall(MatDestroy(&J));
+  PetscFunctionReturn(0);
+}
+
+/* Otherwise: the KKT matrix of the final set factored by MUMPS (LU: the
+ * inactive rows mu_j = 0 make it unsymmetric) */
+static PetscErrorCode DualSolveKKT(M2dProblem *pb, const M2dSolution *sol, Vec b, Vec z)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)z);
+  M2dScene s    = pb->s;
+  M2dKKT   dk;
+  KSP      ksp;
+  PC       pc;
+
+  PetscFunctionBeginUser;
   s.kkt_mat     = M2D_KKT_AIJ;
   s.kkt_augment = 0;
   PetscCall(KKTCreate(&s, PETSC_FALSE, &pb->Rkkt, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &dk));
   PetscCall(KKTSetActive(&dk, sol->active, 1.0, 1.0)); /* the final set: active rows C_j, the others mu_j = 0 */
-  PetscCall(PetscMalloc1(pb->contact.R.n + 1, &omega));
-  PetscCall(DualWeights(pb, sol, omega));
-  PetscCall(VecDuplicate(dk.r, &rhs));
-  PetscCall(VecGetOwnershipRange(rhs, &lo, &hi));
-  PetscCall(VecGetArrayRead(sol->active, &a));
-  PetscCall(VecGetArrayWrite(rhs, &r));
-  for (PetscInt j = lo; j < hi; j++) /* opening w_j omega_j on the active set */
-    r[j - lo] = PetscRealPart(a[j - lo]) != 0 ? pb->contact.R.w[j] * omega[j] : 0.0;
-  PetscCall(VecRestoreArrayWrite(rhs, &r));
-  PetscCall(VecRestoreArrayRead(sol->active, &a));
   PetscCall(VecZeroEntries(dk.b));
-  PetscCall(VecISCopy(dk.b, dk.isl, SCATTER_FORWARD, rhs));
+  PetscCall(VecISCopy(dk.b, dk.isl, SCATTER_FORWARD, b));
   PetscCall(KSPCreate(comm, &ksp));
   PetscCall(KSPSetOptionsPrefix(ksp, "dual_"));
   PetscCall(KSPSetOperators(ksp, dk.A, dk.A));
@@ -100,10 +135,21 @@ PetscErrorCode M2dDualSolve(M2dProblem *pb, const M2dSolution *sol, Vec z)
     PetscCheck(reason > 0, comm, PETSC_ERR_NOT_CONVERGED, "the dual problem of the contact pressure (-adapt_goal contact) could not be solved: %s", KSPConvergedReasons[reason]);
   }
   PetscCall(VecISCopy(dk.x, dk.isu, SCATTER_REVERSE, z));
-  PetscCall(M2dFramesRotateGlobal(&pb->frames, &pb->mesh, z, PETSC_TRUE));
   PetscCall(KSPDestroy(&ksp));
-  PetscCall(VecDestroy(&rhs));
-  PetscCall(PetscFree(omega));
   PetscCall(KKTDestroy(&dk));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dDualSolve(M2dProblem *pb, const M2dSolution *sol, Vec z)
+{
+  Vec b;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(sol->lam, &b));
+  PetscCall(DualLoad(pb, sol, b));
+  if (sol->as.factor) PetscCall(DualSolveCondensed(sol->as.factor, sol, b, z));
+  else PetscCall(DualSolveKKT(pb, sol, b, z));
+  PetscCall(M2dFramesRotateGlobal(&pb->frames, &pb->mesh, z, PETSC_TRUE));
+  PetscCall(VecDestroy(&b));
   PetscFunctionReturn(0);
 }

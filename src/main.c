@@ -9,6 +9,7 @@
  * supports, KKT blocks), Solve (the path chosen in solver.h; the answer's own
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include "logging.h"
 #include "optcheck.h"
 #include "optfiles.h"
@@ -73,12 +74,24 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* A run started without mpiexec is an Open MPI singleton: one rank that talks
+ * to no other process, yet Open MPI's default point-to-point layer first
+ * probes the network libraries (UCX) at MPI_Init. The ob1 layer (shared
+ * memory and self) starts faster. Only when no launcher started the process
+ * and the user has not chosen (OMPI_MCA_pml); other MPIs ignore the variable. */
+static void SingletonMPIDefaults(void)
+{
+  if (getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE")) return;
+  (void)setenv("OMPI_MCA_pml", "ob1", 0);
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
+  SingletonMPIDefaults();
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   ierr = M2dInstallErrorHandler();

@@ -54,7 +54,9 @@ static int Fail(Ctx *c, const char *fmt, ...)
 
 /* gmsh's library is loaded on the first call (dlopen), not linked: it pulls in
  * some 80 libraries (OpenCASCADE, FLTK, ...) whose start-up every run of the
- * program would pay, remeshing or not. */
+ * program would pay, remeshing or not. RTLD_DEEPBIND: their symbols are
+ * looked up in their own dependencies first, not through the long list of
+ * PETSc's libraries already loaded (most of the cost of the dlopen). */
 #ifndef M2D_GMSH_LIBRARY
 #define M2D_GMSH_LIBRARY "libgmsh.so.4.8"
 #endif
@@ -76,7 +78,7 @@ static int LoadGmsh(Ctx *c)
   static void *lib;
   void        *h;
   if (lib) return 0;
-  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
+  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
 #define X(f) \
   if (!(*(void **)&G.f = dlsym(h, #f))) return Fail(c, "gmsh's library %s has no function %s", M2D_GMSH_LIBRARY, #f);
   GMSH_FUNCTIONS(X)

@@ -1,5 +1,6 @@
 /* solver.c - the solver path and the linear solves (see solver.h). */
 #include "solver.h"
+#include "condensed.h"
 #include "iterative.h"
 #include "mortar.h"
 #include "optcheck.h"
@@ -186,5 +187,6 @@ PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
   PetscCall(VecDestroy(&sol->lam));
   PetscCall(VecDestroy(&sol->active));
   PetscCall(PetscFree(sol->eta));
+  PetscCall(CondensedDestroy(&sol->as.factor));
   PetscFunctionReturn(0);
 }

@@ -23,6 +23,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
     PetscCall(ContactStateMask(warm, &st->pb.contact, &st->pb.units, st->pb.s.contact_c_set ? st->pb.s.contact_c : ActiveSetDefaultC(&st->pb.s, &st->pb.contact), st->pb.warm));
   }
 
+  st->pb.keep_factor = (PetscBool)(eo && eo->enabled && eo->goal_contact); /* the dual problem reuses it (dual.h) */
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
   t[M2D_STAGE_SOLVE] = M2dWallTime();
   PetscCall(M2dSolverSolve(&st->pb, path, &st->sol));

@@ -1,9 +1,14 @@
 """The adaptive loop (-adapt, src/adapt.c):
- 1. Hertz with options/hertz_adapt.opts: at most 5e4 dofs on the final mesh,
-    the pressure error against Hertz below 2e-3 (1.40e-3 measured; the edge of
-    the zone falling between nodes moves it by up to 30%), at most 3
-    active-set steps on every adapted mesh after the first, a well-formed
-    "adapt" list in the summary; the same meshes and answers on 2 ranks;
+ 1. Hertz with options/hertz_adapt.opts: at most 5e4 dofs on the final mesh
+    and the pressure error against Hertz at most 1.5e-3 (issue 14's figure),
+    at most 3 active-set steps on every adapted mesh after the first, a
+    well-formed "adapt" list in the summary; the same meshes and answers on 2
+    ranks. The error bound has a margin of 7% over the measured value, and
+    round-off does not move it: 1 and 2 ranks, METIS' and MUMPS' orderings give
+    the same meshes and errors to 1e-9. Other meshes of similar size do: other
+    gmsh algorithms (Delaunay, simple recombination) gave 1.7e-3 to 2.1e-3, as
+    the edge of the contact zone falls between nodes differently; a gmsh other
+    than Debian 12's 4.8.4 may need this bound revisited;
  2. the refinement goes where the scene needs it: Hertz's smallest cells at
     the edge of the contact zone (x = a), S1's at the two corners of the upper
     body on the lower one;
@@ -35,7 +40,7 @@ for ranks in (1, 2):
     res[ranks] = s
     steps = s["adapt"]
     print("  %d rank(s): " % ranks + ", ".join("%d dofs %.2e (%d steps)" % (a["dofs"], a["pressure_l2_rel"], a["iterations"]) for a in steps))
-    check(s["dofs"] <= 50000 and s["pressure_l2_rel"] < 2e-3, "Hertz adaptive, %d rank(s): %d dofs, pressure error %.3e after %d meshes" % (ranks, s["dofs"], s["pressure_l2_rel"], len(steps)))
+    check(s["dofs"] <= 50000 and s["pressure_l2_rel"] <= 1.5e-3, "Hertz adaptive, %d rank(s): %d dofs, pressure error %.3e after %d meshes" % (ranks, s["dofs"], s["pressure_l2_rel"], len(steps)))
     check(all(a["iterations"] <= 3 for a in steps[1:]), "Hertz adaptive, %d rank(s): active-set steps per adapted mesh %s (<= 3 after the first)" % (ranks, [a["iterations"] for a in steps]))
     check(all(steps[k + 1]["error_estimate"] < steps[k]["error_estimate"] for k in range(len(steps) - 1)), "Hertz adaptive: the estimate falls from mesh to mesh %s" % ["%.2e" % a["error_estimate"] for a in steps])
     check(steps[-1]["dofs"] == s["dofs"] and all(a["seconds"] > 0 for a in steps), "Hertz adaptive: the adapt list ends with the final mesh")
