@@ -31,12 +31,9 @@ typedef struct {
   PetscReal factor_time; /* its one factorization (seconds) */
   PetscReal factor_flops, factor_flops_max; /* its MUMPS flops: all ranks, the largest rank's share */
   PetscInt  interface_unknowns;               /* separator rows + multipliers */
-<<<<<<< HEAD
   PetscInt  ksp_its_max, ksp_its_total;       /* Krylov iterations of the steps' solves (1 per direct solve) */
   PetscInt  pc_setups;                        /* iterative path: preconditioner set-ups */
-=======
   struct M2dCondensed *factor;                /* with pb->keep_factor: the condensed path's factorization, the caller's to free (CondensedDestroy), or NULL */
->>>>>>> adaptbench
 } M2dActiveSetInfo;
 
 /* Solve pb's contact problem on `path` (condensed, iterative or full; the
