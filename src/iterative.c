@@ -4,6 +4,7 @@
 #include "logging.h"
 #include "util.h"
 #include <petscksp.h>
+#include <string.h>
 
 #define M2D_GROUP_MAX 8 /* rows eliminated together (dual multipliers: 1, 2 where an edge is partly covered) */
 
@@ -327,30 +328,58 @@ static PetscErrorCode CreateMaps(M2dIterative *it)
   PetscFunctionReturn(0);
 }
 
-/* CG + GAMG, unpreconditioned residual norm (the KKT residual of the step),
- * GAMG's interpolation kept from the first step (the operator changes in a
- * few rows per step) with its smoothers' eigenvalue estimates made anew for
- * each step's operator (the estimate of the first step's prolongator
- * smoothing no longer bounds the spectrum: Chebyshev then diverges), weak
- * couplings (below 0.02) dropped from the aggregation graph; all of it from
- * the options database (-iterative_) */
+/* The preconditioners' defaults, put in the options database under our own
+ * prefix where the user gave none (PETSc 3.18 has no API for BoomerAMG's
+ * parameters), for the preconditioner the options choose: BoomerAMG with
+ * HMIS coarsening, extended+i interpolation of at most 4 entries and strong
+ * threshold 0.5 (iterations stay flat over the Hertz levels: README); GAMG
+ * with weak couplings (below 0.02) dropped and its smoothers' eigenvalues
+ * estimated for each step's operator (the prolongator smoothing's estimate of
+ * an earlier operator no longer bounds the spectrum: Chebyshev diverges). */
+static PetscErrorCode DefaultOptions(void)
+{
+  static const char *const hypre[][2] = {
+    {"-iterative_pc_hypre_boomeramg_coarsen_type", "HMIS"},
+    {"-iterative_pc_hypre_boomeramg_interp_type", "ext+i"},
+    {"-iterative_pc_hypre_boomeramg_P_max", "4"},
+    {"-iterative_pc_hypre_boomeramg_strong_threshold", "0.5"},
+  };
+  static const char *const gamg[][2] = {
+    {"-iterative_pc_gamg_threshold", "0.02"},
+    {"-iterative_pc_gamg_use_sa_esteig", "false"},
+  };
+  char        type[64] = PCHYPRE, htype[64] = "boomeramg";
+  const char *const(*list)[2] = NULL;
+  size_t      n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-iterative_pc_type", type, sizeof(type), NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-iterative_pc_hypre_type", htype, sizeof(htype), NULL));
+  if (!strcmp(type, PCHYPRE) && !strcmp(htype, "boomeramg")) list = hypre, n = sizeof(hypre) / sizeof(hypre[0]);
+  else if (!strcmp(type, PCGAMG)) list = gamg, n = sizeof(gamg) / sizeof(gamg[0]);
+  for (size_t i = 0; i < n; i++) {
+    PetscBool given;
+    PetscCall(PetscOptionsHasName(NULL, NULL, list[i][0], &given));
+    if (!given) PetscCall(PetscOptionsSetValue(NULL, list[i][0], list[i][1]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* CG on the unpreconditioned residual (the KKT residual of the step) to
+ * 1e-12, BoomerAMG; all of it from the options database (-iterative_) */
 PetscErrorCode M2dIterativeCreateKSP(MPI_Comm comm, KSP *ksp)
 {
   PC pc;
 
   PetscFunctionBeginUser;
+  PetscCall(DefaultOptions());
   PetscCall(KSPCreate(comm, ksp));
   PetscCall(KSPSetOptionsPrefix(*ksp, "iterative_"));
   PetscCall(KSPSetType(*ksp, KSPCG));
   PetscCall(KSPSetNormType(*ksp, KSP_NORM_UNPRECONDITIONED));
   PetscCall(KSPSetTolerances(*ksp, 1e-12, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(KSPGetPC(*ksp, &pc));
-  PetscCall(PCSetType(pc, PCGAMG));
-  PetscCall(PCGAMGSetUseSAEstEig(pc, PETSC_FALSE));
-  {
-    PetscReal th = 0.02;
-    PetscCall(PCGAMGSetThreshold(pc, &th, 1));
-  }
+  PetscCall(PCSetType(pc, PCHYPRE));
   PetscCall(KSPSetFromOptions(*ksp));
   PetscFunctionReturn(0);
 }
@@ -393,12 +422,13 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
 }
 
 /* Keep the preconditioner of an earlier step while the set differs from the
- * one it was built for in at most M2D_REUSE_ROWS rows and the last solve took
- * at most M2D_REUSE_ITS times the iterations of the first one after the
- * build: the operator then differs in a few rows and CG absorbs it in a few
- * iterations, for no set-up at all; otherwise build it anew. */
-#define M2D_REUSE_ROWS 0.05 /* of the rows active in either set */
-#define M2D_REUSE_ITS  1.25
+ * one it was built for in at most M2D_REUSE_ROWS of its rows and the last
+ * solve took at most M2D_REUSE_ITS times the iterations of the first one after
+ * the build (the operator then differs in a few rows: CG absorbs it in a few
+ * iterations, for no set-up at all; the step that confirms a settled set
+ * always reuses); otherwise build it anew. */
+#define M2D_REUSE_ROWS 0.01 /* of the rows active in either set */
+#define M2D_REUSE_ITS  1.1
 static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on[])
 {
   PetscInt  changed = 0, active = 0;
