@@ -1,4 +1,4 @@
-"""Fast path = robust path, and the METIS ordering changes nothing but speed:
+"""The condensed path = the full path, and the METIS ordering changes nothing but speed:
  - Hertz levels 0-2 and the eccentric S2 load, each solved five ways on one
    rank: -kkt_path condensed (one factorization, steps on the multipliers) and
    full (the KKT matrix refactored each step), each with -kkt_ordering metis

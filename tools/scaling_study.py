@@ -8,7 +8,7 @@ counts.
         [--paths condensed,iterative] [--mesh-ranks 1,2,4] [--mesh-level 5]
         [--out build/scaling]
 
-Per run (one directory each under OUT): the summary JSON and -log_view. The
+Per run (one directory each under OUT): the summary JSON, -log_view, the contact CSV and the HDF5 fields. The
 CSV (OUT/scaling.csv) has per run: level, dofs, path, ranks, active-set steps,
 the most Krylov iterations of one step and all of them, preconditioner
 set-ups, MUMPS flops (all ranks and the largest rank's share), the dense
@@ -62,7 +62,7 @@ def run_case(out, tag, args, ranks):
         if os.path.exists(f):
             os.remove(f)
     load = os.getloadavg()[0]
-    r = m2d.launch(m2d.command(list(args) + ["-output_dir", d, "-output_name", "sol", "-output_vtu", "0", "-output_hdf5", "0",
+    r = m2d.launch(m2d.command(list(args) + ["-output_dir", d, "-output_name", "sol", "-output_vtu", "0",
                                              "-contact_monitor", "0", "-summary", summ, "-log_view", ":" + logv], ranks), timeout=7200)
     if r.rc != 0:
         sys.stderr.write("run %s failed (exit %s): %s\n%s\n" % (tag, r.rc, r.cmdline, r.stderr[-3000:]))
