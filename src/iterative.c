@@ -1,25 +1,17 @@
 /* iterative.c - the multipliers eliminated row by row, a sparse SPD system in
  * u solved by CG + algebraic multigrid (see iterative.h). */
 #include "iterative.h"
+#include "elimination.h"
 #include "logging.h"
 #include "util.h"
 #include <petscksp.h>
 #include <string.h>
 
-#define M2D_GROUP_MAX 8 /* rows eliminated together (dual multipliers: 1, 2 where an edge is partly covered) */
-
 struct M2dIterative {
   MPI_Comm   comm;
   Mat        K, C; /* referenced from the KKT */
   IS         isu, isl;
-  PetscInt   nrow;         /* candidate rows (every rank holds every row) */
-  PetscInt  *rowptr;       /* row j's columns and their C values (Dirichlet columns 0) */
-  PetscInt  *rowcol;
-  PetscReal *rowval;
-  PetscInt  *slave;        /* s(j): the unknown row j gives when active (global dof) */
-  PetscInt   ngroup;       /* rows whose slaves other rows hold: eliminated together */
-  PetscInt  *gptr, *grow;  /* rows of group g: grow[gptr[g] .. gptr[g + 1]) */
-  PetscInt  *gcptr, *gcol; /* the columns of its rows: gcol[gcptr[g] .. gcptr[g + 1]), sorted */
+  M2dElimination el;       /* slaves and groups of the rows (elimination.h) */
   PetscInt  *own, nown;    /* groups with a slave dof this rank owns */
   Mat        P, E, Ar;     /* du = P v + E t; Ar = P^T K P + D_S */
   Vec        dK;           /* diag K */
@@ -37,228 +29,6 @@ struct M2dIterative {
   M2dIterativeInfo info;
 };
 
-/* the sorted distinct columns of R and, per column, how many rows hold it (a
- * row holds a column whose entry is above 1e-10 of the row's largest: the
- * dual basis leaves round-off where D is zero) and whether it is a Dirichlet
- * dof (of any rank) */
-static PetscErrorCode ColumnCensus(MPI_Comm comm, const M2dContactRows *R, PetscInt ndir, const PetscInt drows[], PetscInt *ncol, PetscInt **cols, PetscInt **rows_with, PetscInt **dirichlet)
-{
-  PetscInt nnz = R->ptr[R->n], n = nnz, *last;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(nnz + 1, cols));
-  PetscCall(PetscArraycpy(*cols, R->col, nnz));
-  PetscCall(PetscSortRemoveDupsInt(&n, *cols));
-  PetscCall(PetscCalloc2(n + 1, rows_with, n + 1, dirichlet));
-  PetscCall(PetscMalloc1(n + 1, &last));
-  for (PetscInt k = 0; k < n; k++) last[k] = -1;
-  for (PetscInt j = 0; j < R->n; j++) {
-    PetscReal rowmax = 0;
-    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) rowmax = PetscMax(rowmax, PetscAbsReal(R->val[k]));
-    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
-      PetscInt i;
-      if (!(PetscAbsReal(R->val[k]) > 1e-10 * rowmax)) continue;
-      PetscCall(PetscFindInt(R->col[k], n, *cols, &i));
-      if (last[i] != j) (*rows_with)[i]++, last[i] = j;
-    }
-  }
-  for (PetscInt d = 0; d < ndir; d++) {
-    PetscInt i;
-    PetscCall(PetscFindInt(drows[d], n, *cols, &i));
-    if (i >= 0) (*dirichlet)[i] = 1;
-  }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, *dirichlet, (PetscMPIInt)n, MPIU_INT, MPI_MAX, comm));
-  PetscCall(PetscFree(last));
-  *ncol = n;
-  PetscFunctionReturn(0);
-}
-
-/* C's rows (C = -B, Dirichlet columns zeroed: kkt.h) and each row's slave:
- * among its unknowns within a tenth of its largest, the one the fewest rows
- * hold (the non-mortar node's own dof: with dual multipliers no other row
- * holds it), the largest of those, not taken by an earlier row. The same on
- * every rank (R is). */
-static PetscErrorCode ChooseSlaves(M2dIterative *it, const M2dContactRows *R, PetscInt ndir, const PetscInt drows[])
-{
-  PetscInt *cols, *rows_with, *dir, *taken, ncol;
-
-  PetscFunctionBeginUser;
-  PetscCall(ColumnCensus(it->comm, R, ndir, drows, &ncol, &cols, &rows_with, &dir));
-  it->nrow = R->n;
-  PetscCall(PetscMalloc4(R->n + 1, &it->slave, R->n + 1, &it->rowptr, R->ptr[R->n] + 1, &it->rowcol, R->ptr[R->n] + 1, &it->rowval));
-  PetscCall(PetscCalloc1(ncol + 1, &taken));
-  it->rowptr[0] = 0;
-  for (PetscInt j = 0; j < R->n; j++) {
-    PetscReal rowmax = 0, best = 0;
-    PetscInt  ibest = -1;
-    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
-      PetscInt i;
-      PetscCall(PetscFindInt(R->col[k], ncol, cols, &i));
-      it->rowcol[k] = R->col[k];
-      it->rowval[k] = dir[i] ? 0.0 : -R->val[k];
-      rowmax        = PetscMax(rowmax, PetscAbsReal(it->rowval[k]));
-    }
-    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
-      PetscInt  i;
-      PetscReal a = PetscAbsReal(it->rowval[k]);
-      PetscCall(PetscFindInt(R->col[k], ncol, cols, &i));
-      if (taken[i] || !(a >= 0.1 * rowmax) || a == 0) continue;
-      if (ibest < 0 || rows_with[i] < rows_with[ibest] || (rows_with[i] == rows_with[ibest] && a > best)) ibest = i, best = a;
-    }
-    PetscCheck(ibest >= 0, it->comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: the contact row of non-mortar node %" PetscInt_FMT " has no free unknown to eliminate (its dofs are held by supports); use -kkt_path condensed", R->node[j]);
-    taken[ibest]      = 1;
-    it->slave[j]      = cols[ibest];
-    it->rowptr[j + 1] = R->ptr[j + 1];
-  }
-  PetscCall(PetscFree(taken));
-  PetscCall(PetscFree(cols));
-  PetscCall(PetscFree2(rows_with, dir));
-  PetscFunctionReturn(0);
-}
-
-static PetscInt Root(PetscInt *parent, PetscInt j)
-{
-  while (parent[j] != j) j = parent[j] = parent[parent[j]];
-  return j;
-}
-
-/* Groups: rows j and i are eliminated together when row j holds row i's
- * slave (above 1e-10 of its largest entry); each group's columns. */
-static PetscErrorCode FormGroups(M2dIterative *it, const M2dContactRows *R)
-{
-  PetscInt *parent, *sorted, *srow, *cnt, n = it->nrow, big = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc4(n + 1, &parent, n + 1, &sorted, n + 1, &srow, n + 1, &cnt));
-  for (PetscInt j = 0; j < n; j++) parent[j] = j, sorted[j] = it->slave[j], srow[j] = j;
-  PetscCall(PetscSortIntWithArray(n, sorted, srow));
-  for (PetscInt j = 0; j < n; j++) {
-    PetscReal rowmax = 0;
-    for (PetscInt k = it->rowptr[j]; k < it->rowptr[j + 1]; k++) rowmax = PetscMax(rowmax, PetscAbsReal(it->rowval[k]));
-    for (PetscInt k = it->rowptr[j]; k < it->rowptr[j + 1]; k++) {
-      PetscInt i;
-      if (!(PetscAbsReal(it->rowval[k]) > 1e-10 * rowmax)) continue;
-      PetscCall(PetscFindInt(it->rowcol[k], n, sorted, &i));
-      if (i >= 0) parent[Root(parent, srow[i])] = Root(parent, j);
-    }
-  }
-  /* number the groups by their first row; rows grouped in order */
-  for (PetscInt j = 0; j < n; j++) cnt[j] = 0, sorted[j] = -1;
-  it->ngroup = 0;
-  for (PetscInt j = 0; j < n; j++) {
-    PetscInt r = Root(parent, j);
-    if (sorted[r] < 0) sorted[r] = it->ngroup++;
-    cnt[sorted[r]]++;
-  }
-  PetscCall(PetscMalloc2(it->ngroup + 1, &it->gptr, n + 1, &it->grow));
-  it->gptr[0] = 0;
-  for (PetscInt g = 0; g < it->ngroup; g++) it->gptr[g + 1] = it->gptr[g] + cnt[g], big = PetscMax(big, cnt[g]);
-  for (PetscInt g = 0; g < it->ngroup; g++) cnt[g] = it->gptr[g];
-  for (PetscInt j = 0; j < n; j++) it->grow[cnt[sorted[Root(parent, j)]]++] = j;
-  PetscCheck(big <= M2D_GROUP_MAX, it->comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: %" PetscInt_FMT " contact rows are coupled through the unknowns they give (standard mortar multipliers couple neighbouring nodes); use -mortar_basis dual or -contact_method nts, or -kkt_path condensed", big);
-  PetscCall(PetscFree4(parent, sorted, srow, cnt));
-  /* each group's columns */
-  PetscCall(PetscMalloc2(it->ngroup + 1, &it->gcptr, R->ptr[n] + 1, &it->gcol));
-  it->gcptr[0] = 0;
-  for (PetscInt g = 0; g < it->ngroup; g++) {
-    PetscInt m = 0, *gc = it->gcol + it->gcptr[g];
-    for (PetscInt q = it->gptr[g]; q < it->gptr[g + 1]; q++)
-      for (PetscInt k = it->rowptr[it->grow[q]]; k < it->rowptr[it->grow[q] + 1]; k++) gc[m++] = it->rowcol[k];
-    PetscCall(PetscSortRemoveDupsInt(&m, gc));
-    it->gcptr[g + 1] = it->gcptr[g] + m;
-  }
-  PetscFunctionReturn(0);
-}
-
-/* X = A^-1 for a k x k row-major A (k <= M2D_GROUP_MAX), Gauss-Jordan with
- * partial pivoting; FALSE when a pivot falls below 1e-12 of the largest entry */
-static PetscBool Invert(PetscInt k, PetscReal A[], PetscReal X[])
-{
-  PetscReal amax = 0;
-  for (PetscInt i = 0; i < k * k; i++) amax = PetscMax(amax, PetscAbsReal(A[i]));
-  for (PetscInt i = 0; i < k; i++)
-    for (PetscInt m = 0; m < k; m++) X[i * k + m] = i == m;
-  for (PetscInt c = 0; c < k; c++) {
-    PetscInt  p = c;
-    PetscReal piv;
-    for (PetscInt i = c + 1; i < k; i++)
-      if (PetscAbsReal(A[i * k + c]) > PetscAbsReal(A[p * k + c])) p = i;
-    if (!(PetscAbsReal(A[p * k + c]) > 1e-12 * amax)) return PETSC_FALSE;
-    for (PetscInt m = 0; m < k; m++) {
-      PetscReal ta = A[c * k + m], tx = X[c * k + m];
-      A[c * k + m] = A[p * k + m], X[c * k + m] = X[p * k + m];
-      A[p * k + m] = ta, X[p * k + m] = tx;
-    }
-    piv = A[c * k + c];
-    for (PetscInt m = 0; m < k; m++) A[c * k + m] /= piv, X[c * k + m] /= piv;
-    for (PetscInt i = 0; i < k; i++) {
-      PetscReal f = A[i * k + c];
-      if (i == c || f == 0) continue;
-      for (PetscInt m = 0; m < k; m++) A[i * k + m] -= f * A[c * k + m], X[i * k + m] -= f * X[c * k + m];
-    }
-  }
-  return PETSC_TRUE;
-}
-
-/* P's and E's rows of group g's slaves this rank owns, for the set `on`
- * (every row, every rank; NULL: none active). With A the group's active
- * rows, S their slaves and X = C[A, S]^-1: an active slave's P row is
- * -(X C[A, :]) off S and 0 on S, its E row X (columns A); an inactive row's
- * slave keeps the identity row. The group's columns are always in the
- * pattern (explicit zeros), so the pattern never changes. */
-static PetscErrorCode GroupRows(M2dIterative *it, PetscInt g, const PetscScalar on[], PetscInt lo, PetscInt hi, PetscBool *singular)
-{
-  PetscInt   nr = it->gptr[g + 1] - it->gptr[g], nc = it->gcptr[g + 1] - it->gcptr[g], k = 0, act[M2D_GROUP_MAX];
-  PetscInt  *gc = it->gcol + it->gcptr[g], *gr = it->grow + it->gptr[g];
-  PetscReal  Cs[M2D_GROUP_MAX * M2D_GROUP_MAX], X[M2D_GROUP_MAX * M2D_GROUP_MAX], *Ca, *prow, erow[M2D_GROUP_MAX];
-
-  PetscFunctionBeginUser;
-  for (PetscInt q = 0; q < nr; q++)
-    if (on && PetscRealPart(on[gr[q]]) != 0) act[k++] = q;
-  PetscCall(PetscCalloc2(M2D_GROUP_MAX * nc, &Ca, nc, &prow));
-  for (PetscInt a = 0; a < k; a++) { /* C[A, group columns] */
-    PetscInt j = gr[act[a]];
-    for (PetscInt q = it->rowptr[j]; q < it->rowptr[j + 1]; q++) {
-      PetscInt i;
-      PetscCall(PetscFindInt(it->rowcol[q], nc, gc, &i));
-      Ca[a * nc + i] += it->rowval[q];
-    }
-  }
-  for (PetscInt a = 0; a < k; a++)
-    for (PetscInt b = 0; b < k; b++) {
-      PetscInt i;
-      PetscCall(PetscFindInt(it->slave[gr[act[b]]], nc, gc, &i));
-      Cs[a * k + b] = Ca[a * nc + i];
-    }
-  if (k > 0 && !Invert(k, Cs, X)) {
-    *singular = PETSC_TRUE;
-    k         = 0;
-  }
-  for (PetscInt q = 0; q < nr; q++) {
-    PetscInt s = it->slave[gr[q]], m = -1;
-    if (s < lo || s >= hi) continue;
-    for (PetscInt a = 0; a < k; a++)
-      if (act[a] == q) m = a;
-    for (PetscInt i = 0; i < nc; i++) {
-      PetscBool in_s = PETSC_FALSE;
-      prow[i]        = 0;
-      if (m < 0) {
-        prow[i] = gc[i] == s ? 1.0 : 0.0;
-        continue;
-      }
-      for (PetscInt b = 0; b < k; b++) in_s = (PetscBool)(in_s || gc[i] == it->slave[gr[act[b]]]);
-      if (!in_s)
-        for (PetscInt a = 0; a < k; a++) prow[i] -= X[m * k + a] * Ca[a * nc + i];
-    }
-    for (PetscInt p = 0; p < nr; p++) erow[p] = 0;
-    for (PetscInt a = 0; m >= 0 && a < k; a++) erow[act[a]] = X[m * k + a];
-    PetscCall(MatSetValues(it->P, 1, &s, nc, gc, prow, INSERT_VALUES));
-    PetscCall(MatSetValues(it->E, 1, &s, nr, gr, erow, INSERT_VALUES));
-  }
-  PetscCall(PetscFree2(Ca, prow));
-  PetscFunctionReturn(0);
-}
-
 /* P and E for the set `on` (NULL: none active) */
 static PetscErrorCode SlaveRows(M2dIterative *it, const PetscScalar on[])
 {
@@ -267,7 +37,7 @@ static PetscErrorCode SlaveRows(M2dIterative *it, const PetscScalar on[])
 
   PetscFunctionBeginUser;
   PetscCall(MatGetOwnershipRange(it->P, &lo, &hi));
-  for (PetscInt k = 0; k < it->nown; k++) PetscCall(GroupRows(it, it->own[k], on, lo, hi, &singular));
+  for (PetscInt k = 0; k < it->nown; k++) PetscCall(M2dEliminationGroupRows(&it->el, it->own[k], on, lo, hi, it->P, it->E, &singular));
   PetscCall(M2dCheckCollective(it->comm, singular, "-kkt_path iterative: active contact rows that share their unknowns form a singular block and cannot be eliminated; use -kkt_path condensed"));
   PetscCall(MatAssemblyBegin(it->P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(it->P, MAT_FINAL_ASSEMBLY));
@@ -300,17 +70,17 @@ static PetscErrorCode CreateMaps(M2dIterative *it)
   PetscCall(MatGetOwnershipRange(it->C, &llo, &lhi));
   n = hi - lo;
   PetscCall(PetscMalloc4(n + 1, &pd, n + 1, &po, n + 1, &ed, n + 1, &eo));
-  PetscCall(PetscMalloc1(it->ngroup + 1, &it->own));
+  PetscCall(PetscMalloc1(it->el.ngroup + 1, &it->own));
   for (PetscInt i = 0; i < n; i++) pd[i] = 1, po[i] = 0, ed[i] = eo[i] = 0;
   it->nown = 0;
-  for (PetscInt g = 0; g < it->ngroup; g++) {
+  for (PetscInt g = 0; g < it->el.ngroup; g++) {
     PetscBool mine = PETSC_FALSE;
-    for (PetscInt q = it->gptr[g]; q < it->gptr[g + 1]; q++) {
-      PetscInt s = it->slave[it->grow[q]];
+    for (PetscInt q = it->el.gptr[g]; q < it->el.gptr[g + 1]; q++) {
+      PetscInt s = it->el.slave[it->el.grow[q]];
       if (s < lo || s >= hi) continue;
       mine = PETSC_TRUE;
-      CountRow(it->gcptr[g + 1] - it->gcptr[g], it->gcol + it->gcptr[g], lo, hi, &pd[s - lo], &po[s - lo]);
-      CountRow(it->gptr[g + 1] - it->gptr[g], it->grow + it->gptr[g], llo, lhi, &ed[s - lo], &eo[s - lo]);
+      CountRow(it->el.gcptr[g + 1] - it->el.gcptr[g], it->el.gcol + it->el.gcptr[g], lo, hi, &pd[s - lo], &po[s - lo]);
+      CountRow(it->el.gptr[g + 1] - it->el.gptr[g], it->el.grow + it->el.gptr[g], llo, lhi, &ed[s - lo], &eo[s - lo]);
     }
     if (mine) it->own[it->nown++] = g;
   }
@@ -401,8 +171,7 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   PetscCall(PetscObjectReference((PetscObject)it->isu));
   PetscCall(PetscObjectReference((PetscObject)it->isl));
   *itp = it; /* from here M2dIterativeDestroy frees what exists */
-  PetscCall(ChooseSlaves(it, R, ndir, drows));
-  PetscCall(FormGroups(it, R));
+  PetscCall(M2dEliminationCreate(it->comm, R, ndir, drows, &it->el));
   PetscCall(CreateMaps(it));
   PetscCall(MatCreateVecs(it->K, &it->bu, &it->dK));
   PetscCall(MatGetDiagonal(it->K, it->dK));
@@ -417,7 +186,7 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   PetscCall(VecDuplicate(kkt->r, &it->mask));
   PetscCall(VecScatterCreateToAll(it->mask, &it->toall, &it->all));
   PetscCall(M2dIterativeCreateKSP(it->comm, &it->ksp));
-  it->info.slave_dofs = it->nrow;
+  it->info.slave_dofs = it->el.nrow;
   PetscFunctionReturn(0);
 }
 
@@ -435,9 +204,9 @@ static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on
   PetscBool reuse;
 
   PetscFunctionBeginUser;
-  if (!it->built) PetscCall(PetscMalloc1(it->nrow + 1, &it->built));
+  if (!it->built) PetscCall(PetscMalloc1(it->el.nrow + 1, &it->built));
   else
-    for (PetscInt j = 0; j < it->nrow; j++) {
+    for (PetscInt j = 0; j < it->el.nrow; j++) {
       PetscBool a = (PetscBool)(PetscRealPart(on[j]) != 0);
       changed += a != it->built[j];
       active += a || it->built[j];
@@ -445,7 +214,7 @@ static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on
   reuse = (PetscBool)(it->info.solves > 0 && changed <= M2D_REUSE_ROWS * active && it->its_last <= M2D_REUSE_ITS * it->its_built);
   PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
   if (!reuse) {
-    for (PetscInt j = 0; j < it->nrow; j++) it->built[j] = (PetscBool)(PetscRealPart(on[j]) != 0);
+    for (PetscInt j = 0; j < it->el.nrow; j++) it->built[j] = (PetscBool)(PetscRealPart(on[j]) != 0);
     it->its_built = -1; /* set by the next solve */
     it->info.setups++;
   }
@@ -470,8 +239,8 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   PetscCall(VecDuplicate(it->dK, &dS)); /* D_S: diag K on the active slave dofs */
   PetscCall(VecZeroEntries(dS));
   for (PetscInt k = 0; k < it->nown; k++)
-    for (PetscInt q = it->gptr[it->own[k]]; q < it->gptr[it->own[k] + 1]; q++) {
-      PetscInt    j = it->grow[q], s = it->slave[j], lo, hi;
+    for (PetscInt q = it->el.gptr[it->own[k]]; q < it->el.gptr[it->own[k] + 1]; q++) {
+      PetscInt    j = it->el.grow[q], s = it->el.slave[j], lo, hi;
       PetscScalar d;
       PetscCall(VecGetOwnershipRange(dS, &lo, &hi));
       if (PetscRealPart(on[j]) == 0 || s < lo || s >= hi) continue;
@@ -579,9 +348,7 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(MatDestroy(&it->C));
   PetscCall(ISDestroy(&it->isu));
   PetscCall(ISDestroy(&it->isl));
-  PetscCall(PetscFree4(it->slave, it->rowptr, it->rowcol, it->rowval));
-  PetscCall(PetscFree2(it->gptr, it->grow));
-  PetscCall(PetscFree2(it->gcptr, it->gcol));
+  PetscCall(M2dEliminationDestroy(&it->el));
   PetscCall(PetscFree(it->own));
   PetscCall(PetscFree(it->built));
   PetscCall(MatDestroy(&it->P));

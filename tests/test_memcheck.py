@@ -68,6 +68,7 @@ if os.path.exists(missing):
 CASES = [
     ("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")], 0),
     ("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")], 0),
+    ("Hertz level 0, -kkt_path iterative", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_path", "iterative"], 0),
     ("bad input: missing mesh file", ["-options_file", opts("patch_uniform"), "-mesh", missing], 1),
 ]
 if ARGS.error_paths:
@@ -239,8 +240,8 @@ def main():
             check_valgrind(f.result())
     malloc_case("S2 patch test (patch_uniform)", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")])
     malloc_case("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")])
-    # 2 ranks: the plex built per rank, the condensed path's MUMPS on 2 ranks, the full path, the tied solve
-    for extra in ([], ["-kkt_path", "full"], ["-contact_unilateral", "0"], ["-mesh_partitioner", "petsc"]):
+    # 2 ranks: the plex built per rank, the condensed path's MUMPS on 2 ranks, the full path, the tied solve, the iterative path
+    for extra in ([], ["-kkt_path", "full"], ["-contact_unilateral", "0"], ["-mesh_partitioner", "petsc"], ["-kkt_path", "iterative"]):
         malloc_case("Hertz level 1, 2 ranks %s" % " ".join(extra), ["-options_file", opts("hertz"), "-mesh", mesh("hertz_1")] + extra, ranks=2)
     print("total %.0f s" % (time.time() - t0))
     print("%d passed, %d failed" % (passed, failed))
