@@ -50,7 +50,7 @@ PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
  * of a group: edges for curves, vertices for points; the caller destroys *is.
  * Errors with a message naming `option` if the group does not exist. */
 PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
-/* Collective. The stiffness matrix K (AIJ, block size 1, the DM's
+/* Collective. The stiffness matrix K (AIJ, block size 2, the DM's
  * local-to-global map), preallocated from the cells, plus the couplings within
  * each of the ngrp groups of global dofs gdofs[gptr[j] .. gptr[j+1]-1] (the
  * contact rows: K + g C^T C then keeps K's pattern), stored as explicit zeros.
