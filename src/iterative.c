@@ -91,8 +91,8 @@ static PetscErrorCode CreateMaps(M2dIterative *it)
   PetscCall(MatSeqAIJSetPreallocation(it->P, 0, pd));
   PetscCall(MatMPIAIJSetPreallocation(it->P, 0, pd, 0, po));
   PetscCall(MatCreateAIJ(it->comm, n, nl, N, Nl, 0, ed, 0, eo, &it->E));
-  for (PetscInt i = lo; i < hi; i++)
-    if (pd[i - lo] + po[i - lo] == 1) PetscCall(MatSetValue(it->P, i, i, 1.0, INSERT_VALUES));
+  for (PetscInt i = lo; i < hi; i++) /* not a slave (no E row): the identity */
+    if (ed[i - lo] + eo[i - lo] == 0) PetscCall(MatSetValue(it->P, i, i, 1.0, INSERT_VALUES));
   PetscCall(PetscFree4(pd, po, ed, eo));
   PetscCall(SlaveRows(it, NULL)); /* every row inactive: the patterns, assembled */
   PetscFunctionReturn(0);
