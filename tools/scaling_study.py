@@ -25,9 +25,14 @@ Checks printed with every level: the iterative path against the condensed
 path on one rank - the same active-set steps and active nodes, the contact
 pressures equal to 1e-8 of their peak (the contact CSVs).
 
+--input h5: every run reads PETSc's HDF5 form of the level's mesh (written once
+with -mesh_save): every rank loads its part and DMPlexDistribute partitions,
+so no rank holds the whole mesh (msh: rank 0 reads the gmsh file and
+partitions with METIS).
+
 --mesh-ranks: the mesh stage at --mesh-level from the gmsh file (rank 0 reads
-and partitions) and from PETSc's HDF5 mesh (-mesh_save once, then -mesh F.h5:
-every rank loads, DMPlexDistribute partitions) on those rank counts.
+and partitions) and from PETSc's HDF5 mesh on those rank counts (the tied
+problem solved by the iterative path: one CG solve, memory per rank).
 
 Last, a model (least squares on the runs, printed as an ESTIMATE): memory per
 rank and work per rank of each path for 1e8 dofs on 64 and 256 ranks.
@@ -72,6 +77,14 @@ def run_case(out, tag, args, ranks):
     return s, fmax, ftot, r.wall, load, os.path.join(d, "sol_contact.csv")
 
 
+def h5_mesh(out, msh, level):
+    """PETSc's HDF5 form of a gmsh mesh (-mesh_save, once)"""
+    h5 = os.path.join(out, "hertz_%d.h5" % level)
+    if not os.path.exists(h5) or os.path.getmtime(h5) < os.path.getmtime(msh):
+        run_case(out, "mesh_save_%d" % level, ["-options_file", m2d.opts("hertz"), "-mesh", msh, "-mesh_save", h5, "-contact_unilateral", "0"], 1)
+    return h5
+
+
 def fit(xs, ys):
     """least squares y = a + b x"""
     n = len(xs)
@@ -81,6 +94,75 @@ def fit(xs, ys):
     return my - b * mx, b
 
 
+def tables(rows, floor, cores):
+    """the per-run table (markdown)"""
+    print("\nPer level and rank count (memory per rank above the floor, the floor in brackets; work per rank: the busiest "
+          "rank's flops - MUMPS' factorization for condensed, PETSc's count for iterative, which does not see BoomerAMG's own):")
+    print("| level | dofs | path | ranks | steps | CG its (max) | interface | memory/rank MB | flops/rank | solve s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        work = r["mumps_flops_max_rank"] if r["path"] == "condensed" else r["petsc_flops_max_rank"]
+        print("| %d | %d | %s | %d%s | %d | %s | %s | %.0f (+%.0f) | %.2e | %.2f |" % (
+            r["level"], r["dofs"], r["path"], r["ranks"], "*" if r["oversubscribed"] else "", r["steps"],
+            r["ksp_its_max"] if r["path"] == "iterative" else "-", r["interface_unknowns"] or "-",
+            r["memory_max_rank_mb"] - floor[r["ranks"]], floor[r["ranks"]], work, r["solve_s"]))
+    print("(* oversubscribed: %d cores)" % cores)
+
+
+def model(rows, floor, cores, paths):
+    """Least squares over the runs above 1e5 dofs, extrapolated to 1e8 dofs on
+    64 and 256 ranks (an ESTIMATE, far beyond the data). Memory per rank above
+    the floor ~ c (N/P)^b, plus, on the condensed path, the dense interface
+    8 I^2 bytes with I ~ k P^alpha N^beta. Time per rank: condensed, the
+    busiest rank's MUMPS flops (~ c (N/P)^b) plus the interface's I^3/3, at
+    the flop rate of the 1-rank runs; iterative, the solve seconds of the runs
+    that were not oversubscribed ~ c (N/P)^b (iterations stay flat; the
+    communication of 64 ranks is not in the data)."""
+    import numpy as np
+    print("\nModel (least squares over the runs with more than 1e5 dofs; an ESTIMATE, extrapolated far beyond the data):")
+    out = {}
+    for path in paths:
+        R = [r for r in rows if r["path"] == path and r["dofs"] > 1e5]
+        if len(R) < 3:
+            print("  %s: too few runs above 1e5 dofs for a fit" % path)
+            continue
+        xs = [math.log(r["dofs"] / r["ranks"]) for r in R]
+        dense = [8.0 * r["interface_unknowns"] ** 2 / 2 ** 20 for r in R]
+        ys = [math.log(max(r["memory_max_rank_mb"] - floor[r["ranks"]] - d, 1e-3)) for r, d in zip(R, dense)]
+        cm, bm = fit(xs, ys)
+        text = "  %s: memory/rank = floor + %.3g (N/P)^%.2f MB" % (path, math.exp(cm), bm)
+        I = lambda N, P: 0.0  # noqa: E731
+        if path == "condensed":
+            Rp = [r for r in R if r["ranks"] > 1]
+            A = np.array([[1.0, math.log(r["ranks"]), math.log(r["dofs"])] for r in Rp])
+            k, al, be = np.linalg.lstsq(A, np.array([math.log(r["interface_unknowns"]) for r in Rp]), rcond=None)[0]
+            I = lambda N, P: math.exp(k) * P ** al * N ** be  # noqa: E731
+            cw, bw = fit(xs, [math.log(r["mumps_flops_max_rank"]) for r in R])
+            one = [r for r in R if r["ranks"] == 1]
+            rate = max(r["mumps_flops_max_rank"] / r["solve_s"] for r in one)
+            text += " + 8 I^2 bytes, I = %.3g P^%.2f N^%.2f; MUMPS flops/rank %.3g (N/P)^%.2f, at %.2g flop/s (1 rank)" % (math.exp(k), al, be, math.exp(cw), bw, rate)
+            secs = lambda N, P: (math.exp(cw) * (N / P) ** bw + I(N, P) ** 3 / 3.0) / rate  # noqa: E731
+        else:
+            Rt = [r for r in R if r["ranks"] <= cores]
+            ct, bt = fit([math.log(r["dofs"] / r["ranks"]) for r in Rt], [math.log(r["solve_s"]) for r in Rt])
+            text += "; solve seconds/rank %.3g (N/P)^%.2f (runs on <= %d ranks)" % (math.exp(ct), bt, cores)
+            secs = lambda N, P: math.exp(ct) * (N / P) ** bt  # noqa: E731
+        print(text)
+        for N, P in ((1e8, 64), (1e8, 256)):
+            mem = math.exp(cm) * (N / P) ** bm + 8.0 * I(N, P) ** 2 / 2 ** 20
+            out[(path, P)] = (mem / 1024, secs(N, P), I(N, P))
+    print("\n| ESTIMATE, 1e8 dofs | memory per rank, 64 ranks | solve time, 64 ranks | memory per rank, 256 ranks | solve time, 256 ranks |")
+    print("|---|---|---|---|---|")
+    for path in paths:
+        if (path, 64) not in out:
+            continue
+        cells = []
+        for P in (64, 256):
+            mem, t, i = out[(path, P)]
+            cells += ["%.3g GB%s" % (mem, " (dense interface %.2g unknowns)" % i if i else ""), "%.2g s" % t]
+        print("| %s | %s |" % (path, " | ".join(cells)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--levels", default="2,3,4,5")
@@ -88,13 +170,26 @@ def main():
     ap.add_argument("--paths", default="condensed,iterative")
     ap.add_argument("--mesh-ranks", default="1,2,4")
     ap.add_argument("--mesh-level", type=int, default=5)
+    ap.add_argument("--input", choices=("msh", "h5"), default="msh",
+                    help="msh: rank 0 reads the gmsh file; h5: PETSc's HDF5 mesh (written once with -mesh_save), every rank loads its part")
     ap.add_argument("--out", default=os.path.join(m2d.SRC, "build", "scaling"))
+    ap.add_argument("--model-only", action="store_true", help="print the tables and the model from OUT/scaling.csv of an earlier run")
     a = ap.parse_args()
     levels = [int(x) for x in a.levels.split(",") if x]
     ranks = [int(x) for x in a.ranks.split(",") if x]
     paths = [x for x in a.paths.split(",") if x]
     cores = os.cpu_count()
     os.makedirs(a.out, exist_ok=True)
+    if a.model_only:
+        with open(os.path.join(a.out, "scaling.csv")) as f:
+            rows = [{k: (v if k == "path" else float(v)) for k, v in r.items()} for r in csv.DictReader(f)]
+        for r in rows:
+            for k in ("level", "dofs", "ranks", "oversubscribed", "steps", "ksp_its_max", "interface_unknowns"):
+                r[k] = int(r[k])
+        floor = {p: m2d.read_json(os.path.join(a.out, "floor_%d" % p, "summary.json"))["memory_max_rank_mb"] for p in sorted({r["ranks"] for r in rows})}
+        tables(rows, floor, cores)
+        model(rows, floor, cores, [p for p in paths if any(r["path"] == p for r in rows)])
+        return
     print("scaling study: levels %s, ranks %s (this machine has %d cores: more ranks are oversubscribed), paths %s" % (levels, ranks, cores, paths), flush=True)
 
     # the program's own memory floor per rank count (PETSc, MPI, libraries)
@@ -110,6 +205,8 @@ def main():
               "memory_max_rank_mb", "mesh_s", "assembly_s", "solve_s", "total_s", "wall_s", "load"]
     for lv in levels:
         mesh = m2d.hertz_mesh(lv)
+        if a.input == "h5":
+            mesh = h5_mesh(a.out, mesh, lv)
         ref_csv = ref = None
         for path in paths:
             for p in ranks:
@@ -137,74 +234,21 @@ def main():
         w.writeheader()
         w.writerows(rows)
 
-    # ---------------------------------------------------------------- tables
-    print("\nPer level and rank count (memory per rank in MB above the floor; work per rank: the busiest rank's flops, "
-          "MUMPS' factorization for condensed, PETSc's count for iterative):")
-    print("| level | dofs | path | ranks | steps | CG its (max) | interface | memory/rank MB | flops/rank | solve s |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for r in rows:
-        work = r["mumps_flops_max_rank"] + (r["interface_unknowns"] ** 3) / 3.0 if r["path"] == "condensed" else r["petsc_flops_max_rank"]
-        print("| %d | %d | %s | %d%s | %d | %s | %s | %.0f (+%.0f) | %.2e | %.2f |" % (
-            r["level"], r["dofs"], r["path"], r["ranks"], "*" if r["oversubscribed"] else "", r["steps"],
-            r["ksp_its_max"] if r["path"] == "iterative" else "-", r["interface_unknowns"] or "-",
-            r["memory_max_rank_mb"] - floor[r["ranks"]], floor[r["ranks"]], work, r["solve_s"]))
-    print("(* oversubscribed: %d cores)" % cores)
-
-    # ---------------------------------------------------------------- the model (an estimate)
-    print("\nModel (least squares over the runs with more than 1e5 dofs; an ESTIMATE, extrapolated far beyond the data):")
-    for path in paths:
-        R = [r for r in rows if r["path"] == path and r["dofs"] > 1e5]
-        if len(R) < 3:
-            print("  %s: too few runs above 1e5 dofs for a fit" % path)
-            continue
-        # memory above the floor per rank ~ c (N/P)^b  (iterative);  + 8 I^2 bytes of the dense interface (condensed)
-        xs = [math.log(r["dofs"] / r["ranks"]) for r in R]
-        dense = [8.0 * r["interface_unknowns"] ** 2 / 2 ** 20 for r in R]
-        ys = [math.log(max(r["memory_max_rank_mb"] - floor[r["ranks"]] - d, 1e-3)) for r, d in zip(R, dense)]
-        cm, bm = fit(xs, ys)
-        line = "  %s: memory/rank = floor + %.3g (N/P)^%.2f MB" % (path, math.exp(cm), bm)
-        if path == "condensed":
-            # interface I ~ k P^alpha N^beta (two-variable fit through logs)
-            Rp = [r for r in R if r["ranks"] > 1]
-            if len(Rp) >= 3:
-                import numpy as np
-                A = np.array([[1.0, math.log(r["ranks"]), math.log(r["dofs"])] for r in Rp])
-                y = np.array([math.log(r["interface_unknowns"]) for r in Rp])
-                k, al, be = np.linalg.lstsq(A, y, rcond=None)[0]
-                line += " + 8 I^2 bytes, I = %.3g P^%.2f N^%.2f" % (math.exp(k), al, be)
-                model_I = lambda N, P: math.exp(k) * P ** al * N ** be  # noqa: E731
-            else:
-                model_I = None
-        # work per rank ~ c (N/P)^b
-        wy = [math.log(r["mumps_flops_max_rank"] if path == "condensed" else r["petsc_flops_max_rank"]) for r in R]
-        cw, bw = fit(xs, wy)
-        line += "; sparse work/rank = %.3g (N/P)^%.2f flops" % (math.exp(cw), bw)
-        print(line)
-        for N, P in ((1e8, 64), (1e8, 256)):
-            mem = math.exp(cm) * (N / P) ** bm
-            work = math.exp(cw) * (N / P) ** bw
-            extra = ""
-            if path == "condensed" and model_I:
-                I = model_I(N, P)
-                mem += 8.0 * I * I / 2 ** 20
-                work += I ** 3 / 3.0
-                extra = ", dense interface I = %.3g unknowns (%.3g GB, %.2e flops on every rank)" % (I, 8.0 * I * I / 2 ** 30, I ** 3 / 3.0)
-            print("    ESTIMATE %.0e dofs on %d ranks: memory/rank %.3g GB + floor, work/rank %.2e flops%s" % (N, P, mem / 1024, work, extra))
+    tables(rows, floor, cores)
+    model(rows, floor, cores, paths)
 
     # ---------------------------------------------------------------- the mesh stage
     mranks = [int(x) for x in a.mesh_ranks.split(",") if x]
     if mranks:
         mesh = m2d.hertz_mesh(a.mesh_level)
-        h5 = os.path.join(a.out, "hertz_%d.h5" % a.mesh_level)
-        if not os.path.exists(h5) or os.path.getmtime(h5) < os.path.getmtime(mesh):
-            run_case(a.out, "mesh_save", ["-options_file", m2d.opts("hertz"), "-mesh", mesh, "-mesh_save", h5, "-contact_unilateral", "0"], 1)
+        h5 = h5_mesh(a.out, mesh, a.mesh_level)
         print("\nMesh stage at level %d (seconds, max over ranks; memory per rank above the floor):" % a.mesh_level)
         print("| input | " + " | ".join("%d rank(s)" % p for p in mranks) + " |")
         print("|---|" + "---|" * len(mranks))
         for name, m in (("gmsh .msh (rank 0 reads)", mesh), ("PETSc HDF5 (every rank loads)", h5)):
             cells = []
             for p in mranks:
-                s, _, _, _, _, _ = run_case(a.out, "mesh_%s_%d" % ("h5" if m == h5 else "msh", p), ["-options_file", m2d.opts("hertz"), "-mesh", m, "-contact_unilateral", "0"], p)
+                s, _, _, _, _, _ = run_case(a.out, "mesh_%s_%d" % ("h5" if m == h5 else "msh", p), ["-options_file", m2d.opts("hertz"), "-mesh", m, "-contact_unilateral", "0", "-kkt_path", "iterative"], p)
                 cells.append("%.2f s, %.0f MB" % (s["time"]["mesh"], s["memory_max_rank_mb"] - floor.get(p, 0)))
             print("| %s | %s |" % (name, " | ".join(cells)))
 
