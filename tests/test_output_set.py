@@ -32,6 +32,7 @@ import random
 import re
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -372,6 +373,17 @@ with open(afile, "w") as f:
     f.write("a regular file\n")
 adir = os.path.join(W, "adir")
 os.makedirs(adir, exist_ok=True)
+# files that are not regular: renaming the summary over them would replace the
+# node itself (as root `-summary /dev/null` replaced /dev/null); a FIFO, a link
+# to one, and a link to /dev/null stand in for a device (never /dev itself)
+afifo = os.path.join(W, "afifo")
+if not os.path.exists(afifo):
+    os.mkfifo(afifo)
+lfifo = os.path.join(W, "lfifo.json")
+lnull = os.path.join(W, "lnull.h5")
+for l, t in ((lfifo, afifo), (lnull, "/dev/null")):
+    if not os.path.islink(l):
+        os.symlink(t, l)
 
 
 def snapshot(d):
@@ -393,6 +405,10 @@ CASES = [
     ("-summary in /proc", ["-summary", "/proc/m2d.json"], ["-summary", "/proc"]),
     ("-summary an existing directory", ["-summary", adir], ["-summary", adir]),
     ("-summary through a regular file", ["-summary", os.path.join(afile, "s.json")], ["-summary", "afile"]),
+    ("-summary a FIFO", ["-summary", afifo], ["-summary", "afifo", "FIFO"]),
+    ("-summary a link to a FIFO", ["-summary", lfifo], ["-summary", "lfifo.json", "FIFO"]),
+    ("-summary a link to /dev/null", ["-summary", lnull], ["-summary", "lnull.h5", "character device"]),
+    ("-mesh_save a link to /dev/null", ["-mesh_save", lnull], ["-mesh_save", "lnull.h5", "character device"]),
     ("-summary names an output file", ["-summary", os.path.join(D, NAME + ".h5")], ["-summary", NAME + ".h5"]),
     ("-output_name with a double quote", ["-output_name", 'a"b'], ["-output_name", 'a"b']),
     ("-output_name with a single quote", ["-output_name", "a'b"], ["-output_name"]),
@@ -420,5 +436,7 @@ for what, extra, culprits in CASES:
             problems.append("D changed")
         report(not problems, "%s [%d rank%s]" % (what, ranks, "s" if ranks > 1 else ""), "; ".join(problems) or lines[0])
 report(classify(content(D), REFS[1]) == "A" and neighbours() == NB, "after the refused runs D still holds set A and its neighbours")
+report(os.path.islink(lnull) and os.readlink(lnull) == "/dev/null" and os.path.islink(lfifo) and stat.S_ISFIFO(os.lstat(afifo).st_mode)
+       and stat.S_ISCHR(os.stat("/dev/null").st_mode), "the FIFO, the links and /dev/null are untouched")
 print("%d passed, %d failed" % (passed, failed))
 raise SystemExit(1 if failed else 0)
