@@ -569,9 +569,16 @@ static PetscErrorCode Failed(SNES snes, M2dActiveSet *as, SNESConvergedReason re
   PC                 pc;
   PetscBool          fs;
 
+  const M2dProblem  *pb   = as->pb;
+  PetscReal          cr   = pb->s.contact_c_set ? pb->s.contact_c / ActiveSetDefaultC(&pb->s, &pb->contact) : 1;
+
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPGetConvergedReason(ksp, &kr));
+  /* a -contact_c far from E* / h^2 (Hertz: 1e-20 cycles, 1e20 does not settle,
+   * 1e200 overflows to NaN) is the likely cause, whatever else the failure says */
+  PetscCheck(cr >= 1e-6 && cr <= 1e6, comm, PETSC_ERR_NOT_CONVERGED, "active set %s: -contact_c %g is %.0e times the automatic value E*/h^2 = %g, so the active-set test cannot tell open from closed nodes; omit -contact_c (auto) or keep it within 1e6 of that value",
+             as->hist.failed ? "keeps cycling" : reason == SNES_DIVERGED_MAX_IT ? "did not settle in -snes_max_it steps" : "failed", (double)(pb->s.contact_c * pb->units.S / (pb->units.L * pb->units.U)), (double)cr, (double)(pb->s.contact_c / cr * pb->units.S / (pb->units.L * pb->units.U)));
   PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)as->c);
   PetscCheck(reason != SNES_DIVERGED_MAX_IT, comm, PETSC_ERR_NOT_CONVERGED, "active set did not settle in %" PetscInt_FMT " steps (-snes_max_it)", steps);
   if (kr < 0) {
