@@ -97,6 +97,20 @@ for lowerE, culprits in (("1e-10", ["-lower_E 1e-10", "-upper_E 1e+09", "differ 
               "S2, -lower_E %s under 1e9, %d rank(s): one line naming %s: %s" % (lowerE, ranks, culprits, lines[-1] if lines else "(none)"))
         got[ranks] = lines[0].split(":")[2] if lowerE != "1" else culprits[1]
     check(got[1] == got[2], "S2, -lower_E %s: the same diagnosis on 1 and 2 ranks" % lowerE)
+# results that double precision cannot hold in the user's units: one line
+# (before: a pressure of 1e-308 on E = 1e9 exited 0 with stresses wrong by
+# 3.1e-4, its displacements being subnormal; a traction of 1e308 and a
+# prescribed displacement of 1e300 ended in DIVERGED_FNORM_NAN); E = 1e-300
+# with p = 1e-290 (displacements of order 1) is exact
+for what, extra, culprits in (("pressure 1e-308", ["-pressure", "upper_top:1e-308"], ["stresses of about 1e-308", "displacements of about 1.41421e-317"]),
+                              ("traction 1e308", ["-traction", "upper_top:1e6:1e308"], ["stresses of about 1e+308"]),
+                              ("displacement 1e300", ["-dirichlet", "lower_bottom:y,lower_origin:x,lower_left:x,upper_left:x:1e300"], ["stresses of about inf"])):
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_range", S2 + extra, ranks)
+        check(rc == 1 and len(lines) == 1 and all(c in lines[0] for c in culprits + ["state the loads, moduli and lengths in other units"]),
+              "S2 with a %s, %d rank(s): one line: %s" % (what, ranks, lines[-1] if lines else "(none)"))
+s = solve("trust_E300", S2 + ["-lower_E", "1e-300", "-upper_E", "1e-300", "-pressure", "upper_top:1e-290"])
+check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1e-290 - 1) < 1e-10 and accepted(s), "S2, E = 1e-300, p = 1e-290: exact to %.1e, force p x 1 m" % patch_error(s))
 for ranks in (1, 2):
     s = solve("trust_um_%d" % ranks, S2 + ["-mesh_scale", "1e-6"], ranks=ranks)
     check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1.0 - 1) < 1e-10,
