@@ -81,6 +81,8 @@ if ARGS.error_paths:
     CASES += [
         # mesh.c: a cell too thin for double precision (after the files are read, before the plex)
         ("error path: a 1e-6 thin cell", ["-options_file", opts("block"), "-mesh", thin, "-pressure", "", "-exact", "none"], 1),
+        # problem.c / supports.c: the commonest bad input, before any solve (lost the Dirichlet values)
+        ("error path: a body held by nothing", ["-options_file", opts("block"), "-mesh", mesh("block"), "-dirichlet", "bottom:y"], 1),
         # activeset.c / supports.c: the contact opens and the upper body is held by nothing
         ("error path: S2 pulled apart", S2 + ["-pressure", "upper_top:-1e6"], 1),
         # verify.c: after a whole solve, the equilibrium check fails (moduli 1e9 apart)
