@@ -112,6 +112,11 @@ static int SetHandlers(void)
   for (int k = 0; k < 3; k++) sigaddset(&sa.sa_mask, sigs[k]);
   for (int k = 0; k < 3; k++)
     if (sigaction(sigs[k], &sa, NULL)) return sigs[k];
+  /* stdout only reports progress: a reader that goes away (`mortar2d ... |
+   * head -1`) must not kill the run (PETSc's handler made that a 6-line
+   * "Caught signal 13 Broken Pipe" and exit 59); the writes fail quietly */
+  sa.sa_handler = SIG_IGN;
+  if (sigaction(SIGPIPE, &sa, NULL)) return SIGPIPE;
   return 0;
 }
 

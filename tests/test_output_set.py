@@ -367,6 +367,18 @@ for k in range(4):
     rc, lines, when = interrupted(DP, "B", 1, sig, rng.uniform(0, (STEPS - 1) * DELAY) if k < 3 else 0.0, wait_for="stage" if k < 3 else "switch")
     check_interrupted("plain files of set A, SIG%s at %s" % ("KILL" if k < 3 else "INT", when), DP, sig, 1, rc, lines, "A", "B", REFS[1])
 
+# ---------------------------------------------------------------- a reader that goes away
+# `mortar2d ... | head -1`: stdout closed before the first line (before:
+# PETSc's "Caught signal 13 Broken Pipe", 6 lines, exit 59, no output)
+DPIPE = os.path.join(W, "pipe")
+shutil.rmtree(DPIPE, ignore_errors=True)
+p = subprocess.Popen(command(args(DPIPE, "A"), 1), cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=ENV)
+p.stdout.close()
+perr = p.stderr.read().decode()
+prc = p.wait(timeout=600)
+report(prc == 0 and not perr.strip() and classify(content(DPIPE), REFS[1]) == "A" and not leftovers(DPIPE),
+       "stdout closed by its reader: exit 0, no stderr, the complete set", "exit %d, stderr %r" % (prc, perr[-300:]))
+
 # ---------------------------------------------------------------- up-front checks
 afile = os.path.join(W, "afile")
 with open(afile, "w") as f:
