@@ -166,6 +166,17 @@ if os.geteuid() != 0:  # root reads a chmod 000 file anyway
     bad("unreadable options file", BLOCK + ["-options_file", unreadable], [unreadable])
 else:
     print("skip unreadable (chmod 000) options file: running as root")
+# files that never end or block: /dev/zero and a FIFO hung the run (before); a
+# binary file's line is shown without control bytes
+fifo = os.path.join(W, "fifo.opts")
+if not os.path.exists(fifo):
+    os.mkfifo(fifo)
+bad("/dev/zero as options file", BLOCK + ["-options_file", "/dev/zero"], ["options file", "/dev/zero", "not a regular file (a character device)"])
+bad("a FIFO as options file", BLOCK + ["-options_file", fifo], ["options file", "fifo.opts", "not a regular file (a FIFO)"], ranklist=(1,))
+binary = os.path.join(W, "binary.opts")
+with open(binary, "wb") as f:
+    f.write(bytes([0xc3, 0x01, 0x7f, 0x1b]) + b"abc" * 40 + b"\n")
+bad("a binary options file", BLOCK + ["-options_file", binary], ["binary.opts", "line 1", "'????abcabc", "...' is not an option"], ranklist=(1,))
 good("the same file twice is no cycle", BLOCK + ["-options_file", write("twice.opts", "-options_file %s\n-options_file %s\n" % (opts("block"), opts("block")))], ranklist=(1,))
 
 # ---------- 4. unknown values of a choice ----------
