@@ -71,6 +71,17 @@ for c in ("1e-20", "1e200"):
         check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: active set ") and (": -contact_c %g is" % float(c)) in lines[0] and "times the automatic value" in lines[0],
               "Hertz with -contact_c %s, %d rank(s): one line naming -contact_c: %s" % (c, ranks, lines[-1] if lines else "(none)"))
 
+# nodes beyond -contact_reach carry no multiplier: one that ends inside the
+# other body fails the contact check (before: Hertz level 0 with -contact_reach
+# 1e-6 exited 0 with 2 multipliers and a pressure 2.2 times off Hertz's)
+for ranks in (1, 2):
+    rc, lines = one_line_error("trust_reach", HZ + ["-contact_reach", "1e-6"], ranks)
+    check(rc == 1 and len(lines) == 1 and "the answer fails its contact check: non-mortar node (" in lines[0] and "inside 'block_top' but carries no multiplier" in lines[0]
+          and "raise -contact_reach" in lines[0], "Hertz with -contact_reach 1e-6, %d rank(s): one line: %s" % (ranks, lines[-1] if lines else "(none)"))
+r1 = solve("trust_reach_ok", HZ + ["-contact_reach", "0.02"])
+r0 = solve("trust_reach_auto", HZ)
+check(abs(r1["pressure_l2_rel"] - r0["pressure_l2_rel"]) < 1e-9, "Hertz with -contact_reach 0.02 (all the contact zone within reach): the answer of the automatic reach (%.6e = %.6e)" % (r1["pressure_l2_rel"], r0["pressure_l2_rel"]))
+
 # ---------------------------------------------------------------- 2. units
 ref = None
 for E in ("1e-20", "1e-10", "1", "1e9", "1e20"):
