@@ -131,7 +131,7 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
   PetscCall(PetscLogStagePush(contact_stage));
   *t_contact = M2dWallTime();
   if (pb->has_contact) {
-    PetscCall(ContactSetup(&pb->mesh, &pb->s, &pb->contact));
+    PetscCall(ContactSetup(&pb->mesh, &pb->s, pb->units.L, &pb->contact));
     /* the geometric gap from scaled coordinates is g0 / L^2; in reference units it is g0 / (L U) */
     for (PetscInt j = 0; j < pb->contact.R.n; j++) pb->contact.R.g0[j] *= pb->units.L / pb->units.U;
   }

@@ -78,6 +78,10 @@ for ranks in (1, 2):
     rc, lines = one_line_error("trust_reach", HZ + ["-contact_reach", "1e-6"], ranks)
     check(rc == 1 and len(lines) == 1 and "the answer fails its contact check: non-mortar node (" in lines[0] and "inside 'block_top' but carries no multiplier" in lines[0]
           and "raise -contact_reach" in lines[0], "Hertz with -contact_reach 1e-6, %d rank(s): one line: %s" % (ranks, lines[-1] if lines else "(none)"))
+# the reach is stated in the user's units (before: S2's -contact_reach 1e-6 was
+# reported as "within 5e-07", the reference length being 2)
+rc, lines = one_line_error("trust_reach_gap", S2 + ["-mesh", mesh("patch_gap"), "-contact_reach", "1e-6", "-exact", "none"], 1)
+check(rc == 1 and len(lines) == 1 and "never face each other within 1e-06 (-contact_reach)" in lines[0], "S2 with a gap and -contact_reach 1e-6: the line states 1e-06: %s" % (lines[-1] if lines else ""))
 r1 = solve("trust_reach_ok", HZ + ["-contact_reach", "0.02"])
 r0 = solve("trust_reach_auto", HZ)
 check(abs(r1["pressure_l2_rel"] - r0["pressure_l2_rel"]) < 1e-9, "Hertz with -contact_reach 0.02 (all the contact zone within reach): the answer of the automatic reach (%.6e = %.6e)" % (r1["pressure_l2_rel"], r0["pressure_l2_rel"]))
