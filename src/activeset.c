@@ -37,6 +37,12 @@ typedef struct {
   PetscInt      step;    /* active-set steps taken */
 } M2dActiveSet;
 
+/* c in the user's units (the summary's contact_c): lambda / c is a weighted gap */
+static PetscReal CUser(const M2dProblem *pb)
+{
+  return pb->units.S / (pb->units.L * pb->units.U);
+}
+
 PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
 {
   PetscReal inv = 0, h = 0;
@@ -171,7 +177,7 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
         hi->failed = PETSC_TRUE;
         break;
       }
-      PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)as->c, (double)(10 * as->c)));
+      PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)(as->c * CUser(as->pb)), (double)(10 * as->c * CUser(as->pb))));
       as->c *= 10;
       PetscCall(UpdateMask(as));
       PetscCall(ActiveHash(as, &h));
@@ -579,7 +585,7 @@ static PetscErrorCode Failed(SNES snes, M2dActiveSet *as, SNESConvergedReason re
    * 1e200 overflows to NaN) is the likely cause, whatever else the failure says */
   PetscCheck(cr >= 1e-6 && cr <= 1e6, comm, PETSC_ERR_NOT_CONVERGED, "active set %s: -contact_c %g is %.0e times the automatic value E*/h^2 = %g, so the active-set test cannot tell open from closed nodes; omit -contact_c (auto) or keep it within 1e6 of that value",
              as->hist.failed ? "keeps cycling" : reason == SNES_DIVERGED_MAX_IT ? "did not settle in -snes_max_it steps" : "failed", (double)(pb->s.contact_c * pb->units.S / (pb->units.L * pb->units.U)), (double)cr, (double)(pb->s.contact_c / cr * pb->units.S / (pb->units.L * pb->units.U)));
-  PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)as->c);
+  PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)(as->c * CUser(as->pb)));
   PetscCheck(reason != SNES_DIVERGED_MAX_IT, comm, PETSC_ERR_NOT_CONVERGED, "active set did not settle in %" PetscInt_FMT " steps (-snes_max_it)", steps);
   if (kr < 0) {
     PetscCall(KSPGetPC(ksp, &pc));
@@ -642,7 +648,7 @@ static PetscErrorCode SolveRun(M2dProblem *pb, PetscBool condensed, Vec u, Vec l
   if (as->cond) PetscCall(CondensedStart(w->snes, as, w->z, &w->nu, &w->Jc));
   else if (!as->vi) PetscCall(SNESSetJacobian(w->snes, pb->kkt.A, pb->kkt.A, FormJacobian, as));
   PetscCall(SNESMonitorSet(w->snes, Monitor, as, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as->vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as->cond ? "K factored once, steps on the multipliers (condensed)" : "KKT refactored each step (full)", (double)as->c, pb->kkt.nlam));
+  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as->vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as->cond ? "K factored once, steps on the multipliers (condensed)" : "KKT refactored each step (full)", (double)(as->c * CUser(pb)), pb->kkt.nlam));
   PetscCall(SNESSolve(w->snes, NULL, as->cond ? w->nu : w->z));
   PetscCall(SNESGetConvergedReason(w->snes, &reason));
   PetscCall(SNESGetIterationNumber(w->snes, &info->iterations));
