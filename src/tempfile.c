@@ -120,6 +120,25 @@ static int SetHandlers(void)
   return 0;
 }
 
+static int EnvInt(const char *const names[], int def)
+{
+  for (int k = 0; names[k]; k++) {
+    const char *v = getenv(names[k]);
+    if (v && *v) return atoi(v);
+  }
+  return def;
+}
+
+int M2dInstallEarlySignalHandlers(void)
+{
+  const char *const rank_vars[] = {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", NULL};
+  const char *const size_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", NULL};
+  world_rank = EnvInt(rank_vars, 0);
+  world_size = EnvInt(size_vars, 1);
+  owner      = getpid();
+  return SetHandlers();
+}
+
 PetscErrorCode M2dInstallSignalHandlers(void)
 {
   PetscMPIInt rank, size;
@@ -150,6 +169,11 @@ PetscErrorCode M2dSignalsBeforeFinalize(void)
   bad = SetHandlers();
   PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the handler of signal %d: %s", bad, strerror(errno));
   PetscFunctionReturn(0);
+}
+
+void M2dMetisSignal(int rc, int metis_error)
+{
+  if (rc == metis_error) raise(SIGTERM); /* GKlib restored our handler on return */
 }
 
 int M2dTempTryRecord(const char *path, PetscBool isdir)

@@ -367,6 +367,21 @@ for k in range(4):
     rc, lines, when = interrupted(DP, "B", 1, sig, rng.uniform(0, (STEPS - 1) * DELAY) if k < 3 else 0.0, wait_for="stage" if k < 3 else "switch")
     check_interrupted("plain files of set A, SIG%s at %s" % ("KILL" if k < 3 else "INT", when), DP, sig, 1, rc, lines, "A", "B", REFS[1])
 
+# ---------------------------------------------------------------- Ctrl-C during the set-up
+# hertz_4 on 2 ranks, SIGINT to mpiexec while the mesh is partitioned and the
+# stiffness ordered: METIS (GKlib) trapped the SIGTERM mpiexec passes on and
+# the run ended in "option -kkt_ordering metis: METIS_NodeND failed (-4)"
+DM = os.path.join(W, "metis")
+for moment in (0.3, 0.5, 0.7, 0.9, 1.2):
+    shutil.rmtree(DM, ignore_errors=True)
+    p = subprocess.Popen(command(args(DM, "A", level=4), 2), cwd=SRC, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=ENV)
+    time.sleep(moment)
+    p.send_signal(signal.SIGINT)
+    perr = p.communicate(timeout=120)[1].decode()
+    lines = [l for l in perr.splitlines() if l.strip()]
+    report(p.returncode == 1 and len(lines) == 1 and MSG.match(lines[0]) is not None,
+           "hertz_4, 2 ranks, SIGINT to mpiexec %.1f s after the start: exit 1 and the interrupt's one line" % moment, "exit %d, %r" % (p.returncode, lines[:3]))
+
 # ---------------------------------------------------------------- a reader that goes away
 # `mortar2d ... | head -1`: stdout closed before the first line (before:
 # PETSc's "Caught signal 13 Broken Pipe", 6 lines, exit 59, no output)
