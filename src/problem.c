@@ -48,16 +48,13 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
  * lambda div u): beyond 1e-6 of the load the answer cannot be vouched for. */
 static PetscErrorCode CheckMaterials(MPI_Comm comm, const M2dScene *s)
 {
-  PetscInt soft = 0, stiff = 0;
+  PetscInt soft, stiff;
 
   PetscFunctionBeginUser;
   /* one stiffness matrix holds both bodies: a body softer than the other by
    * more than 1/eps has a stiffness below the other's round-off (E ratio 1e19
    * on S2: "cycling" on 1 rank, "singular" on 2; 1e309: MUMPS INFOG(1) = -9) */
-  for (PetscInt b = 1; b < s->nbody; b++) {
-    if (s->body[b].E < s->body[soft].E) soft = b;
-    if (s->body[b].E > s->body[stiff].E) stiff = b;
-  }
+  (void)SceneModuliRatio(s, &soft, &stiff);
   PetscCheck(s->body[stiff].E <= s->body[soft].E / PETSC_MACHINE_EPSILON, comm, PETSC_ERR_USER_INPUT, "options -%s_E %g and -%s_E %g: the moduli differ by a factor 1e%+.0f, more than double precision resolves in one stiffness matrix (%.1e = 1/eps); bring them within 1e6 of each other (a body a million times stiffer is rigid for the other)", s->body[soft].name, (double)s->body[soft].E, s->body[stiff].name, (double)s->body[stiff].E, (double)(PetscLog10Real(s->body[stiff].E) - PetscLog10Real(s->body[soft].E)), (double)(1 / PETSC_MACHINE_EPSILON));
   if (s->plane != M2D_PLANE_STRAIN) PetscFunctionReturn(0);
   for (PetscInt b = 0; b < s->nbody; b++) {

@@ -488,3 +488,15 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
 }
+
+PetscReal SceneModuliRatio(const M2dScene *s, PetscInt *soft, PetscInt *stiff)
+{
+  PetscInt lo = 0, hi = 0;
+  for (PetscInt b = 1; b < s->nbody; b++) {
+    if (s->body[b].E < s->body[lo].E) lo = b;
+    if (s->body[b].E > s->body[hi].E) hi = b;
+  }
+  if (soft) *soft = lo;
+  if (stiff) *stiff = hi;
+  return s->body[hi].E / s->body[lo].E;
+}

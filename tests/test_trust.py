@@ -126,6 +126,13 @@ for what, extra, culprits in (("pressure 1e-308", ["-pressure", "upper_top:1e-30
               "S2 with a %s, %d rank(s): one line: %s" % (what, ranks, lines[-1] if lines else "(none)"))
 s = solve("trust_E300", S2 + ["-lower_E", "1e-300", "-upper_E", "1e-300", "-pressure", "upper_top:1e-290"])
 check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1e-290 - 1) < 1e-10 and accepted(s), "S2, E = 1e-300, p = 1e-290: exact to %.1e, force p x 1 m" % patch_error(s))
+# the same on the paths that refactor each step: the active set does not
+# settle, and the moduli are named (before: "did not settle in 50 steps (-snes_max_it)")
+for extra in (["-kkt_path", "full"], ["-snes_type", "vinewtonrsls"]):
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_ratio_full", S2 + ["-lower_E", "1"] + extra, ranks)
+        check(rc == 1 and len(lines) == 1 and "the moduli of 'lower' and 'upper' differ by a factor 1.0e+09" in lines[0],
+              "S2, -lower_E 1 under 1e9, %s, %d rank(s): one line naming the moduli: %s" % (" ".join(extra), ranks, lines[-1] if lines else "(none)"))
 for ranks in (1, 2):
     s = solve("trust_um_%d" % ranks, S2 + ["-mesh_scale", "1e-6"], ranks=ranks)
     check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1.0 - 1) < 1e-10,
