@@ -17,7 +17,8 @@ typedef struct {
   PetscReal   force_n;  /* integral of the contact pressure */
 } M2dContact;
 
-PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c);
+/* s: the scene in reference units; L: the length unit (reach reported in the user's units) */
+PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2dContact *c);
 /* active: final active set (layout of lam), NULL when every node is held closed */
 PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active);
 

@@ -143,4 +143,7 @@ PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *give
 /* Print the plane mode, the bodies and their materials (and Hertz's effective
  * radius when two radii are given). Collective on comm. */
 PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s);
+/* The largest modulus over the smallest (the bodies' E), and which bodies
+ * they are. Not collective. */
+PetscReal SceneModuliRatio(const M2dScene *s, PetscInt *soft, PetscInt *stiff);
 #endif

@@ -21,9 +21,20 @@
 /* Install the SIGINT/SIGTERM/SIGHUP handlers, after PetscInitialize (whose
  * crash handler takes SIGHUP).  Not collective; once per rank. */
 PetscErrorCode M2dInstallSignalHandlers(void);
+/* The same handlers before PetscInitialize (MPI start-up takes ~0.3 s: a
+ * SIGTERM then killed the run with status 143 and no line); the rank comes
+ * from the launcher's environment. Plain C: returns 0 or the failing signal. */
+int M2dInstallEarlySignalHandlers(void);
 /* Call right before PetscFinalize: PETSc 3.18's PetscFinalize resets SIGTERM
  * and SIGHUP to the default action (PetscPopSignalHandler); this keeps ours. */
 PetscErrorCode M2dSignalsBeforeFinalize(void);
+/* METIS (GKlib) traps SIGTERM while it runs and returns METIS_ERROR (-4) for
+ * it (and only for it: out of memory is -3): an interrupt then read "METIS_NodeND
+ * failed (-4)". Call with METIS's return code: on METIS_ERROR the SIGTERM is
+ * raised again, now to the program's handler (one line, exit 1); holding the
+ * signal over the call instead delayed the line past mpiexec's teardown.
+ * Not collective. */
+void M2dMetisSignal(int rc, int metis_error);
 
 /* Record a temporary (file, or directory when isdir) before creating it; *slot
  * identifies it for M2dTempForget.  Not collective; errors when the table is

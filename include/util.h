@@ -28,6 +28,12 @@ PetscErrorCode M2dCheckCollective(MPI_Comm comm, PetscBool bad, const char *msg)
 /* mkdir -p path.  Not collective.  Returns 0, or nonzero with the reason in msg. */
 int M2dMakeDirs(const char *path, char *msg, size_t len);
 
+/* A file this run replaces by renaming a new one over it must be absent, a
+ * regular file or a symbolic link to one: renaming over /dev/null, a FIFO or a
+ * socket (or a link to one) would replace that node, and as root even a device
+ * of /dev.  Returns 0, or nonzero with the reason in msg.  Not collective. */
+int M2dCheckReplaceable(const char *path, char *msg, size_t len);
+
 /* snprintf into buf that fails, naming option `opt`, when the result does not
  * fit (a path is never silently cut).  Not collective. */
 PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(4, 5);

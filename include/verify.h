@@ -21,4 +21,11 @@ typedef struct {
 /* Compute the checks of sol on pb and fail (one line, collective) if one is
  * above M2D_VERIFY_TOL. Collective on the problem's communicator. */
 PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2dVerification *v);
+/* The non-mortar nodes without a multiplier (beyond -contact_reach when the
+ * rows were built) must not end up inside the mortar body: the linearised gap
+ * g0 + (u_nm - u_m).n of each, against the mortar edge it faces, is at least
+ * -M2D_VERIFY_TOL x the largest surface displacement, or the run stops with
+ * one line naming the node and -contact_reach. u: the physical displacement
+ * (supports' frames rotated back). Collective. */
+PetscErrorCode M2dVerifyReach(const M2dProblem *pb, Vec u);
 #endif

@@ -39,6 +39,12 @@ typedef struct {
   PetscInt      step;    /* active-set steps taken */
 } M2dActiveSet;
 
+/* c in the user's units (the summary's contact_c): lambda / c is a weighted gap */
+static PetscReal CUser(const M2dProblem *pb)
+{
+  return pb->units.S / (pb->units.L * pb->units.U);
+}
+
 PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
 {
   PetscReal inv = 0, h = 0;
@@ -173,7 +179,7 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
         hi->failed = PETSC_TRUE;
         break;
       }
-      PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)as->c, (double)(10 * as->c)));
+      PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)(as->c * CUser(as->pb)), (double)(10 * as->c * CUser(as->pb))));
       as->c *= 10;
       PetscCall(UpdateMask(as));
       PetscCall(ActiveHash(as, &h));
@@ -602,10 +608,26 @@ static PetscErrorCode Failed(SNES snes, M2dActiveSet *as, SNESConvergedReason re
   PC                 pc;
   PetscBool          fs;
 
+  const M2dProblem  *pb   = as->pb;
+  PetscReal          cr   = pb->s.contact_c_set ? pb->s.contact_c / ActiveSetDefaultC(&pb->s, &pb->contact) : 1;
+
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPGetConvergedReason(ksp, &kr));
-  PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)as->c);
+  /* a -contact_c far from E* / h^2 (Hertz: 1e-20 cycles, 1e20 does not settle,
+   * 1e200 overflows to NaN) is the likely cause, whatever else the failure says */
+  PetscCheck(cr >= 1e-6 && cr <= 1e6, comm, PETSC_ERR_NOT_CONVERGED, "active set %s: -contact_c %g is %.0e times the automatic value E*/h^2 = %g, so the active-set test cannot tell open from closed nodes; omit -contact_c (auto) or keep it within 1e6 of that value",
+             as->hist.failed ? "keeps cycling" : reason == SNES_DIVERGED_MAX_IT ? "did not settle in -snes_max_it steps" : "failed", (double)(pb->s.contact_c * pb->units.S / (pb->units.L * pb->units.U)), (double)cr, (double)(pb->s.contact_c / cr * pb->units.S / (pb->units.L * pb->units.U)));
+  {
+    /* bodies of very different moduli: the steps' round-off, not the step
+     * limit (S2 with E 1 under 1e9 on the full path: "did not settle in 50
+     * steps (-snes_max_it)"); a step limit below the default of 50 stays the cause */
+    PetscInt  soft, stiff;
+    PetscReal ratio = SceneModuliRatio(&pb->s, &soft, &stiff);
+    PetscCheck(ratio <= 1e6 || !(as->hist.failed || (reason == SNES_DIVERGED_MAX_IT && steps >= 50)), comm, PETSC_ERR_NOT_CONVERGED, "active set %s after %" PetscInt_FMT " steps: the moduli of '%s' and '%s' differ by a factor %.1e and round-off decides the contact state; bring -%s_E within 1e6 of -%s_E (a body a million times stiffer is rigid for the other)",
+               as->hist.failed ? "keeps cycling" : "did not settle", steps, pb->s.body[soft].name, pb->s.body[stiff].name, (double)ratio, pb->s.body[soft].name, pb->s.body[stiff].name);
+  }
+  PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)(as->c * CUser(as->pb)));
   PetscCheck(reason != SNES_DIVERGED_MAX_IT, comm, PETSC_ERR_NOT_CONVERGED, "active set did not settle in %" PetscInt_FMT " steps (-snes_max_it)", steps);
   if (kr < 0) {
     PetscCall(KSPGetPC(ksp, &pc));
@@ -634,68 +656,106 @@ static PetscErrorCode Finish(M2dActiveSet *as, Vec z, Vec nu, Vec u, Vec lam)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ActiveSetSolve(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info)
+/* what one active-set solve creates, destroyed whether it succeeded or not */
+typedef struct {
+  M2dActiveSet as;
+  SNES         snes;
+  Vec          z, F, nu;
+  Mat          Jc;
+} Solve;
+
+/* the path's solver: the condensed factorization, the iterative elimination, or the full path's LU */
+static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path, M2dActiveSetInfo *info)
 {
-  MPI_Comm            comm = PetscObjectComm((PetscObject)u);
-  M2dActiveSet        as;
-  SNES                snes;
-  Vec                 z, F, nu = NULL;
-  Mat                 Jc = NULL;
-  SNESConvergedReason reason;
+  MPI_Comm comm = PetscObjectComm((PetscObject)snes);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(info, sizeof(*info)));
-  PetscCall(ContextCreate(pb, u, lam, active, &as));
-  PetscCall(SNESCreate(comm, &snes));
-  PetscCall(ConfigureSNES(snes, &as, path));
-  if (path == M2D_PATH_ITERATIVE) PetscCall(SetupIterative(snes, &as));
+  PetscCall(ConfigureSNES(snes, as, path));
+  if (path == M2D_PATH_ITERATIVE) PetscCall(SetupIterative(snes, as));
   PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
-  if (path == M2D_PATH_CONDENSED && !as.vi) PetscCall(SetupCondensed(snes, &as, info));
+  if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(SetupCondensed(snes, as, info));
   else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;
     PetscCall(SNESGetKSP(snes, &ksp));
-    PetscCall(M2dOrderingSetupKSP(ksp, pb->s.kkt_ordering, NULL));
+    PetscCall(M2dOrderingSetupKSP(ksp, as->pb->s.kkt_ordering, NULL));
   }
-  PetscCall(VecDuplicate(pb->kkt.x, &z));
-  PetscCall(VecDuplicate(pb->kkt.x, &F));
-  PetscCall(InitialMultipliers(&as, z));
-  PetscCall(SNESSetFunction(snes, F, FormFunction, &as));
-  if (as.vi) PetscCall(SetupVI(snes, &as, z));
-  else PetscCall(SNESSetConvergenceTest(snes, Converged, &as, NULL));
-  if (as.cond) PetscCall(CondensedStart(snes, &as, z, &nu, &Jc));
-  else if (!as.vi) PetscCall(SNESSetJacobian(snes, pb->kkt.A, pb->kkt.A, FormJacobian, &as));
-  PetscCall(SNESMonitorSet(snes, Monitor, &as, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as.vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as.cond ? "K factored once, steps on the multipliers (condensed)" : as.iter ? "multipliers eliminated, CG + AMG in u (iterative)" : "KKT refactored each step (full)", (double)as.c, pb->kkt.nlam));
-  PetscCall(SNESSolve(snes, NULL, as.cond ? nu : z));
-  PetscCall(SNESGetConvergedReason(snes, &reason));
-  PetscCall(SNESGetIterationNumber(snes, &info->iterations));
-  if (as.cond) info->iterations++; /* the first set was solved before the SNES (CondensedStart) */
-  if (reason <= 0) PetscCall(Failed(snes, &as, reason, info->iterations));
-  PetscCall(Finish(&as, z, nu, u, lam));
-  if (pb->keep_factor) { /* handed over: ContextDestroy leaves it */
-    info->factor = as.cond;
-    as.cond      = NULL;
+  PetscFunctionReturn(0);
+}
+
+/* what the solve leaves in info (and, with pb->keep_factor, the condensed factorization) */
+static PetscErrorCode Report(M2dActiveSet *as, M2dActiveSetInfo *info)
+{
+  PetscFunctionBeginUser;
+  if (as->pb->keep_factor) { /* handed over: ContextDestroy leaves it */
+    info->factor = as->cond;
+    as->cond     = NULL;
   }
-  info->cycles    = as.hist.cycles;
-  info->c         = as.c;
-  info->vi        = as.vi;
-  info->nactive   = as.nactive;
-  info->condensed = (PetscBool)(as.cond != NULL);
+  info->cycles      = as->hist.cycles;
+  info->c           = as->c;
+  info->vi          = as->vi;
+  info->nactive     = as->nactive;
+  info->condensed   = (PetscBool)(as->cond != NULL || info->factor != NULL);
   info->ksp_its_max = 1; /* direct solves */
-  if (as.iter) {
+  if (as->iter) {
     M2dIterativeInfo ii;
-    PetscCall(M2dIterativeGetInfo(as.iter, &ii));
+    PetscCall(M2dIterativeGetInfo(as->iter, &ii));
     info->ksp_its_max   = ii.its_max;
     info->ksp_its_total = ii.its_total;
     info->pc_setups     = ii.setups;
-    PetscCall(PetscPrintf(comm, "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups\n", ii.solves, ii.its_total, ii.its_max, ii.setups));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->lam), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups\n", ii.solves, ii.its_total, ii.its_max, ii.setups));
   }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SolveRun(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info, Solve *w)
+{
+  MPI_Comm            comm = PetscObjectComm((PetscObject)u);
+  M2dActiveSet       *as   = &w->as;
+  SNESConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(ContextCreate(pb, u, lam, active, as));
+  PetscCall(SNESCreate(comm, &w->snes));
+  PetscCall(SetupPath(w->snes, as, path, info));
+  PetscCall(VecDuplicate(pb->kkt.x, &w->z));
+  PetscCall(VecDuplicate(pb->kkt.x, &w->F));
+  PetscCall(InitialMultipliers(as, w->z));
+  PetscCall(SNESSetFunction(w->snes, w->F, FormFunction, as));
+  if (as->vi) PetscCall(SetupVI(w->snes, as, w->z));
+  else PetscCall(SNESSetConvergenceTest(w->snes, Converged, as, NULL));
+  if (as->cond) PetscCall(CondensedStart(w->snes, as, w->z, &w->nu, &w->Jc));
+  else if (!as->vi) PetscCall(SNESSetJacobian(w->snes, pb->kkt.A, pb->kkt.A, FormJacobian, as));
+  PetscCall(SNESMonitorSet(w->snes, Monitor, as, NULL));
+  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as->vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as->cond ? "K factored once, steps on the multipliers (condensed)" : as->iter ? "multipliers eliminated, CG + AMG in u (iterative)" : "KKT refactored each step (full)", (double)(as->c * CUser(pb)), pb->kkt.nlam));
+  PetscCall(SNESSolve(w->snes, NULL, as->cond ? w->nu : w->z));
+  PetscCall(SNESGetConvergedReason(w->snes, &reason));
+  PetscCall(SNESGetIterationNumber(w->snes, &info->iterations));
+  if (as->cond) info->iterations++; /* the first set was solved before the SNES (CondensedStart) */
+  if (reason <= 0) PetscCall(Failed(w->snes, as, reason, info->iterations));
+  PetscCall(Finish(as, w->z, w->nu, u, lam));
+  PetscCall(Report(as, info));
   PetscCall(PetscPrintf(comm, "active set: converged in %" PetscInt_FMT " steps (%s), %" PetscInt_FMT " active nodes\n", info->iterations, SNESConvergedReasons[reason], info->nactive));
-  PetscCall(SNESDestroy(&snes));
-  PetscCall(VecDestroy(&z));
-  PetscCall(VecDestroy(&F));
-  PetscCall(VecDestroy(&nu));
-  PetscCall(MatDestroy(&Jc));
-  PetscCall(ContextDestroy(&as));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ActiveSetSolve(M2dProblem *pb, M2dSolverPath path, Vec u, Vec lam, Vec active, M2dActiveSetInfo *info)
+{
+  Solve          w;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(info, sizeof(*info)));
+  PetscCall(PetscMemzero(&w, sizeof(w)));
+  /* an error anywhere (a body freed by the contact opening, a failed step)
+   * still destroys the SNES, the factorization and the context: they hold
+   * references to the DM and the KKT blocks (valgrind: 17 kB lost per error) */
+  ierr = SolveRun(pb, path, u, lam, active, info, &w);
+  PetscCall(SNESDestroy(&w.snes));
+  PetscCall(VecDestroy(&w.z));
+  PetscCall(VecDestroy(&w.F));
+  PetscCall(VecDestroy(&w.nu));
+  PetscCall(MatDestroy(&w.Jc));
+  PetscCall(ContextDestroy(&w.as));
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }

@@ -8,7 +8,7 @@ typedef struct {
 } XYIdx;
 
 
-PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c)
+PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2dContact *c)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
 
@@ -22,8 +22,8 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, M2dContact *c)
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
-  PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)c->reach);
-  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == M2D_CONTACT_MORTAR ? (s->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)c->reach));
+  PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)(L * c->reach));
+  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == M2D_CONTACT_MORTAR ? (s->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
   PetscFunctionReturn(0);
 }
 

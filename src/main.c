@@ -90,6 +90,7 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
+  if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   SingletonMPIDefaults();
   ierr = PetscInitialize(&argc, &argv, NULL, help);

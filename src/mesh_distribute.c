@@ -65,6 +65,7 @@ static PetscErrorCode PartitionCells(const MeshSkel *sk, PetscMPIInt size, Petsc
   METIS_SetDefaultOptions(opts);
   opts[METIS_OPTION_NUMBERING] = 0;
   rc = METIS_PartGraphRecursive(&nvtx, &ncon, xadj, adj, NULL, NULL, NULL, &nparts, NULL, NULL, opts, &objval, part);
+  M2dMetisSignal((int)rc, METIS_ERROR); /* a SIGTERM that GKlib trapped */
   if (rc != METIS_OK) PetscCall(PetscSNPrintf(err, len, "option -mesh_partitioner metis: METIS_PartGraphRecursive failed (%d) on %" PetscInt_FMT " cells for %d ranks", rc, sk->nc, (int)size));
   PetscCall(PetscInfo(NULL, "METIS: %" PetscInt_FMT " cells in %d parts, %ld cut edges\n", sk->nc, (int)size, (long)objval));
   for (PetscInt c = 0; c < sk->nc; c++) where[c] = (PetscInt)part[c];

@@ -72,8 +72,10 @@ PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0) { /* every rank writes the same temporary file, renamed when complete */
     FILE *fp;
+    char  why[PETSC_MAX_PATH_LEN + 160];
     M2dTmpName(path, tmp, sizeof(tmp));
     if (!MeshIsHDF5(path)) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: '%s' does not end in .h5", path));
+    else if (M2dCheckReplaceable(path, why, sizeof(why))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: %s", why));
     else if (!(fp = fopen(tmp, "wb"))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: cannot write '%s': %s", path, strerror(errno)));
     else fclose(fp);
   }

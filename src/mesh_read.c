@@ -4,6 +4,7 @@
  * whenever a curve loop runs clockwise) and every quad must then be convex with
  * a positive area. Plain C returns: 0, or 1 with one line in ri->err. */
 #include "mesh_impl.h"
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,6 +85,37 @@ static double MinCornerJacobian(const double xy[8])
   return jmin;
 }
 
+/* What double precision can vouch for (the answer is checked to 1e-6, verify.h),
+ * measured on a 4 x 4 block under uniform compression:
+ *  - a cell of aspect ratio A (longest side^2 / area) makes the stiffness lose
+ *    about eps A^2 / 2 of the stresses (A = 1e5: 1.1e-6, 1e7: 2.4e-2, 1e8: 0.46),
+ *    while the residual stays small (a backward-stable solve of an
+ *    ill-conditioned matrix): refused above eps A^2 = 1e-6 (A = 6.7e4);
+ *  - a cell of width h at a distance X from the origin keeps its shape only to
+ *    eps X / h (X/h = 4e10: stress errors 3.9e-6): refused above 1e-6. */
+#define M2D_GEOMETRY_ROUNDOFF 1e-6
+
+static int Conditioning(const MeshSources *src, MeshReadInfo *ri, int f, long tag, const double xy[8], double a)
+{
+  double lmax = 0, xmax = 0, aspect, width, eps = PETSC_MACHINE_EPSILON;
+  for (int k = 0; k < 4; k++) {
+    const double *p = &xy[2 * k], *n = &xy[2 * ((k + 1) % 4)];
+    lmax = fmax(lmax, hypot(n[0] - p[0], n[1] - p[1]));
+    xmax = fmax(xmax, fmax(fabs(p[0]), fabs(p[1])));
+  }
+  aspect = lmax * lmax / a;
+  width  = a / lmax;
+  if (eps * aspect * aspect > M2D_GEOMETRY_ROUNDOFF) {
+    snprintf(ri->err, sizeof(ri->err), "%s: quadrilateral %ld is too thin (aspect ratio %.2g: side %g, width %g): round-off in its stiffness alone puts stress errors of about %.1e of the load, beyond the 1e-06 the answer is checked to; remesh with aspect ratios below %.0e", src->label[f], tag, aspect, lmax, width, 0.5 * eps * aspect * aspect, sqrt(M2D_GEOMETRY_ROUNDOFF / eps));
+    return 1;
+  }
+  if (eps * xmax / width > M2D_GEOMETRY_ROUNDOFF) {
+    snprintf(ri->err, sizeof(ri->err), "%s: quadrilateral %ld lies %g from the origin but is only %g wide: double precision keeps its shape to %.0e of its width, beyond the 1e-06 the answer is checked to; move the mesh near the origin (gmsh: Translate)", src->label[f], tag, xmax, width, eps * xmax / width);
+    return 1;
+  }
+  return 0;
+}
+
 /* Quad q of source f: its body, its nodes counter-clockwise in nodes[4] (the
  * file's order reversed if the area is negative: *flipped), checked. */
 static int OneQuad(const M2dScene *s, const MeshSources *src, MeshReadInfo *ri, int f, long q, int *body, long nodes[4], int *flipped)
@@ -129,7 +161,7 @@ static int OneQuad(const M2dScene *s, const MeshSources *src, MeshReadInfo *ri, 
     snprintf(ri->err, sizeof(ri->err), "%s: quadrilateral %ld is %s (area %g, smallest corner Jacobian %g)", src->label[f], tag, a == 0 ? "of zero area" : "degenerate or non-convex", a, jmin);
     return 1;
   }
-  return 0;
+  return Conditioning(src, ri, f, tag, xy, a);
 }
 
 /* the cells of every source, counter-clockwise, with the vertices they use */

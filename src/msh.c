@@ -102,6 +102,31 @@ static int SkipSection(Parser *p, const char *w)
   return 0;
 }
 
+static int CmpLong(const void *a, const void *b)
+{
+  long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+/* two quads of one tag would make every message naming it ambiguous */
+static int CheckQuadTags(Parser *p, const MshMesh *m)
+{
+  long *t;
+  if (m->nquad < 2 || !m->quadtag) return 0;
+  if (!(t = (long *)malloc((size_t)m->nquad * sizeof(long)))) return MshFail(p, "out of memory checking %ld element tags", m->nquad);
+  memcpy(t, m->quadtag, (size_t)m->nquad * sizeof(long));
+  qsort(t, (size_t)m->nquad, sizeof(long), CmpLong);
+  for (long i = 1; i < m->nquad; i++)
+    if (t[i] == t[i - 1]) {
+      snprintf(p->err, p->errlen, "mesh file '%s': element tag %ld is used by two quadrilaterals", p->path, t[i]);
+      p->failed = 1;
+      free(t);
+      return 1;
+    }
+  free(t);
+  return 0;
+}
+
 typedef struct {
   double      version;
   NodeMap     map;
@@ -132,7 +157,8 @@ static int ReadSection(Parser *p, MshMesh *m, Sections *s, const char *w)
     if (s->have_elems) return MshFail(p, "second $Elements section");
     if (v41 && !s->ents.e) return MshFail(p, "$Elements without $Entities");
     s->have_elems = 1;
-    return v41 ? MshReadElements41(p, m, &s->map, &s->ents, &s->caps) : MshReadElements22(p, m, &s->map, &s->caps);
+    if (v41 ? MshReadElements41(p, m, &s->map, &s->ents, &s->caps) : MshReadElements22(p, m, &s->map, &s->caps)) return 1;
+    return CheckQuadTags(p, m);
   }
   if (w[0] == '$' && strncmp(w, "$End", 4)) return SkipSection(p, w);
   return MshFail(p, "unexpected text '%.40s' between sections", w);

@@ -143,7 +143,12 @@ static int ScanLine(const char *file, int line, char *text, char **include, int 
   } else if (!strcasecmp(t[0], "alias")) {
     alias = 1;
     if (!ValidKey(t[1]) || !ValidKey(t[2])) return Fail("options file '%s' line %d: alias needs two options (alias -new -old)", file, line);
-  } else return Fail("options file '%s' line %d: '%s' is not an option (options start with '-')", file, line, t[0]);
+  } else {
+    for (c = t[0]; *c; c++) /* a binary file: no control bytes on the one error line */
+      if ((unsigned char)*c < 32 || (unsigned char)*c >= 127) *c = '?';
+    if (strlen(t[0]) > 60) strcpy(t[0] + 57, "...");
+    return Fail("options file '%s' line %d: '%s' is not an option (options start with '-')", file, line, t[0]);
+  }
   if (alias ? t[3] : t[2]) return Fail("options file '%s' line %d: extra token '%s'", file, line, alias ? t[3] : t[2]);
   return 0;
 }
@@ -188,6 +193,8 @@ static int ScanFile(Scan *sc, const char *given, int require, const char *where)
     return Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno));
   }
   if (S_ISDIR(st.st_mode)) return require ? Fail("options file '%s' (named %s) is a directory", name, where) : 0;
+  /* /dev/zero never ends and a FIFO blocks until a writer comes: both hung the run */
+  if (!S_ISREG(st.st_mode)) return require ? Fail("options file '%s' (named %s) is not a regular file (%s)", name, where, S_ISCHR(st.st_mode) ? "a character device" : S_ISFIFO(st.st_mode) ? "a FIFO" : "a device or socket") : 0;
   for (int d = 0; d < sc->depth; d++) {
     if (sc->dev[d] != st.st_dev || sc->ino[d] != st.st_ino) continue;
     for (int k = d; k < sc->depth; k++) {

@@ -2,6 +2,7 @@
 #include "ordering.h"
 #include "logging.h"
 #include <metis.h>
+#include "tempfile.h"
 
 /* sorted closed neighbourhood of every row (the row itself included) */
 static PetscErrorCode ClosedRows(PetscInt n, const PetscInt ia[], const PetscInt ja[], PetscInt **xr, PetscInt **adj)
@@ -143,6 +144,7 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos)
   METIS_SetDefaultOptions(opts);
   opts[METIS_OPTION_NUMBERING] = 0;
   rc = ng > 0 ? METIS_NodeND(&nv, xadj, gadj, vwgt, opts, perm, iperm) : METIS_OK;
+  M2dMetisSignal((int)rc, METIS_ERROR); /* a SIGTERM that GKlib trapped */
   PetscCall(PetscInfo(A, "METIS_NodeND: %" PetscInt_FMT " vertices for %" PetscInt_FMT " rows\n", ng, n));
   PetscCall(PetscFree3(xadj, vwgt, gadj));
   if (rc == METIS_OK) PetscCall(ExpandOrder(n, grp, gstart, ng, perm, last, out));

@@ -111,6 +111,7 @@ static PetscErrorCode CheckPublic(const char *outdir, const char *outname)
   for (int k = 0; k < NSUFFIX; k++) {
     PetscCall(M2dPathPrintf(path, sizeof(path), "-output_dir", "%s/%s%s", outdir, outname, suffix[k]));
     PetscCheck(lstat(path, &st) || !S_ISDIR(st.st_mode), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_name: the output file '%s' is a directory", path);
+    PetscCheck(lstat(path, &st) || S_ISREG(st.st_mode) || S_ISLNK(st.st_mode), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_name: the output file '%s' exists and is not a regular file or a link (a device, FIFO or socket is never replaced)", path);
   }
   PetscCall(M2dSetPointerName(outname, ptr, sizeof(ptr)));
   PetscCall(M2dPathPrintf(path, sizeof(path), "-output_dir", "%s/%s", outdir, ptr));
@@ -147,6 +148,7 @@ static PetscErrorCode CheckSummary(const char *outdir, const char *outname, cons
 
   PetscFunctionBeginUser;
   PetscCheck(stat(summary, &st) || !S_ISDIR(st.st_mode), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -summary: '%s' is a directory", summary);
+  PetscCheck(!M2dCheckReplaceable(summary, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -summary: %s", why);
   PetscCall(M2dSetSplitPath(summary, sumdir, sizeof(sumdir), base));
   PetscCheck(strncmp(base, M2D_TEMP_PREFIX, strlen(M2D_TEMP_PREFIX)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -summary: names starting with '" M2D_TEMP_PREFIX "' are mortar2d's own");
   PetscCheck(!M2dMakeDirs(sumdir, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -summary: %s", why);

@@ -48,7 +48,14 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
  * lambda div u): beyond 1e-6 of the load the answer cannot be vouched for. */
 static PetscErrorCode CheckMaterials(MPI_Comm comm, const M2dScene *s)
 {
+  PetscInt soft, stiff;
+
   PetscFunctionBeginUser;
+  /* one stiffness matrix holds both bodies: a body softer than the other by
+   * more than 1/eps has a stiffness below the other's round-off (E ratio 1e19
+   * on S2: "cycling" on 1 rank, "singular" on 2; 1e309: MUMPS INFOG(1) = -9) */
+  (void)SceneModuliRatio(s, &soft, &stiff);
+  PetscCheck(s->body[stiff].E <= s->body[soft].E / PETSC_MACHINE_EPSILON, comm, PETSC_ERR_USER_INPUT, "options -%s_E %g and -%s_E %g: the moduli differ by a factor 1e%+.0f, more than double precision resolves in one stiffness matrix (%.1e = 1/eps); bring them within 1e6 of each other (a body a million times stiffer is rigid for the other)", s->body[soft].name, (double)s->body[soft].E, s->body[stiff].name, (double)s->body[stiff].E, (double)(PetscLog10Real(s->body[stiff].E) - PetscLog10Real(s->body[soft].E)), (double)(1 / PETSC_MACHINE_EPSILON));
   if (s->plane != M2D_PLANE_STRAIN) PetscFunctionReturn(0);
   for (PetscInt b = 0; b < s->nbody; b++) {
     PetscReal nu = s->body[b].nu, ratio = 2 * nu / (1 - 2 * nu); /* lambda / mu */
@@ -117,7 +124,8 @@ static PetscErrorCode NearNullSpace(M2dProblem *pb)
 static PetscErrorCode Assemble(M2dProblem *pb)
 {
   M2dMesh     *m = &pb->mesh;
-  PetscScalar *dvals;
+  PetscScalar   *dvals;
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_PREALLOC], 0, 0, 0, 0));
@@ -132,10 +140,13 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
   PetscCall(ElasticityDirichletRows(m, &pb->s, &pb->frames, &pb->ndir, &pb->drows, &dvals));
-  PetscCall(M2dSupportsCreate(m, &pb->s, &pb->frames, pb->ndir, pb->drows, &pb->supports));
-  PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
-  PetscCall(ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals));
+  /* dvals is freed whatever happens (a body held by nothing, the commonest bad
+   * input, lost it: valgrind 48-192 bytes) */
+  ierr = M2dSupportsCreate(m, &pb->s, &pb->frames, pb->ndir, pb->drows, &pb->supports);
+  if (!ierr) ierr = ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals);
   PetscCall(PetscFree(dvals));
+  PetscCall(ierr);
+  PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
   PetscCall(NearNullSpace(pb));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -148,7 +159,7 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
   PetscCall(PetscLogStagePush(contact_stage));
   *t_contact = M2dWallTime();
   if (pb->has_contact) {
-    PetscCall(ContactSetup(&pb->mesh, &pb->s, &pb->contact));
+    PetscCall(ContactSetup(&pb->mesh, &pb->s, pb->units.L, &pb->contact));
     /* the geometric gap from scaled coordinates is g0 / L^2; in reference units it is g0 / (L U) */
     for (PetscInt j = 0; j < pb->contact.R.n; j++) pb->contact.R.g0[j] *= pb->units.L / pb->units.U;
   }

@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "optcheck.h"
 #include "options.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -325,6 +326,28 @@ static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
   v = strtoll(buf, &end, 10);
   PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
   PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
+  PetscCheck(v <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is larger than %d", buf, (int)PETSC_MAX_INT);
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's SNES/KSP tolerances are read without a domain check (-ksp_rtol -1
+ * and -snes_rtol -1 ran silently): finite, >= 0, relative ones below 1 */
+static PetscErrorCode CheckTolerances(MPI_Comm comm)
+{
+  const char *const name[] = {"-ksp_rtol", "-ksp_atol", "-ksp_divtol", "-snes_rtol", "-snes_atol", "-snes_stol"};
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < sizeof(name) / sizeof(name[0]); k++) {
+    char      buf[256], *end;
+    PetscBool set;
+    double    v;
+    PetscCall(PetscOptionsGetString(NULL, NULL, name[k], buf, sizeof(buf), &set));
+    if (!set) continue;
+    v = strtod(buf, &end);
+    PetscCheck(buf[0] && !*end && isfinite(v), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number", name[k], buf);
+    PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], buf);
+    PetscCheck(v < 1 || !strstr(name[k], "rtol"), comm, PETSC_ERR_USER_INPUT, "option %s: %s must be < 1", name[k], buf);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -343,6 +366,7 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   s->hertz_radius = s->hertz_nradius == 2 ? s->hertz_radii[0] * s->hertz_radii[1] / (s->hertz_radii[0] + s->hertz_radii[1]) : s->hertz_radii[0];
   PetscCall(CheckMumps(comm, s));
   PetscCall(CheckSNESMaxIt(comm));
+  PetscCall(CheckTolerances(comm));
   PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
   if (s->exact == M2D_EXACT_UNIFORM && !s->exact_p_set) {
     PetscCheck(s->nload > 0 && s->load[0].is_pressure && s->load[0].p != 0, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a first -pressure load P != 0 (its value is the exact -sigma_yy)");
@@ -463,4 +487,16 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "\n"));
   if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
+}
+
+PetscReal SceneModuliRatio(const M2dScene *s, PetscInt *soft, PetscInt *stiff)
+{
+  PetscInt lo = 0, hi = 0;
+  for (PetscInt b = 1; b < s->nbody; b++) {
+    if (s->body[b].E < s->body[lo].E) lo = b;
+    if (s->body[b].E > s->body[hi].E) hi = b;
+  }
+  if (soft) *soft = lo;
+  if (stiff) *stiff = hi;
+  return s->body[hi].E / s->body[lo].E;
 }

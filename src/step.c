@@ -30,6 +30,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   PetscCall(M2dVerifyAnswer(&st->pb, &st->sol, &st->v));
   if (st->pb.has_contact) PetscCall(ContactResults(&st->pb.contact, &st->pb.kkt, st->sol.u, st->sol.lam, st->sol.active));
   PetscCall(M2dFramesRotateGlobal(&st->pb.frames, &st->pb.mesh, st->sol.u, PETSC_TRUE)); /* u = T u~ from here on */
+  PetscCall(M2dVerifyReach(&st->pb, st->sol.u));
   t[M2D_STAGE_SOLVE] = M2dWallTime() - t[M2D_STAGE_SOLVE];
   PetscCall(PetscLogStagePop());
 

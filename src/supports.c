@@ -147,7 +147,7 @@ PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2d
   PetscInt     n = 3 * sup->nbody;
   PetscReal    G[MAXM * MAXM], w[MAXM], work[10 * MAXM], gmax;
   PetscBLASInt bn, lwork = 10 * MAXM, info;
-  const char  *what[3] = {"translation in x", "translation in y", "rotation"};
+  char         what[96];
 
   PetscFunctionBeginUser;
   PetscCall(PetscArraycpy(G, sup->gram, n * n));
@@ -157,13 +157,26 @@ PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2d
   PetscCheck(info == 0, comm, PETSC_ERR_LIB, "rigid-mode check: LAPACK syev failed (%d)", (int)info);
   gmax = PetscMax(w[n - 1], 1.0);
   for (PetscInt e = 0; e < n; e++) { /* a (near) zero eigenvalue: name the body and the motion that dominates it */
-    const PetscReal *vec  = &G[e * n];
-    PetscInt         imax = 0;
-    if (w[e] > 1e-9 * gmax) continue;
-    for (PetscInt i = 1; i < n; i++)
-      if (PetscAbsReal(vec[i]) > PetscAbsReal(vec[imax])) imax = i;
-    if (when) SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s %s: the load separates the bodies and no -dirichlet support holds it", s->body[imax / 3].name, what[imax % 3], when);
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s: no -dirichlet support and no contact surface resists it (frictionless contact holds only the normal direction)", s->body[imax / 3].name, what[imax % 3]);
+    const PetscReal *vec = &G[e * n];
+    PetscInt         imax, b;
+    if (w[e] > 1e-12 * gmax) continue;
+    PetscReal        vmax = 0, tx, ty, tn;
+    for (PetscInt i = 0; i < n; i++) vmax = PetscMax(vmax, PetscAbsReal(vec[i]));
+    /* the first body among those (nearly) equally involved: bodies that move
+     * together (a free body carrying another through contact) are named the
+     * same way whatever round-off the rank count brings */
+    for (imax = 0; imax < n && PetscAbsReal(vec[imax]) < (1 - 1e-6) * vmax; imax++) {}
+    b  = imax / 3;
+    tx = vec[3 * b], ty = vec[3 * b + 1], tn = PetscSqrtReal(tx * tx + ty * ty);
+    if (imax % 3 == 2 || tn < 1e-6 * vmax) PetscCall(PetscSNPrintf(what, sizeof(what), "rotation"));
+    else if (PetscAbsReal(ty) <= 1e-6 * tn) PetscCall(PetscSNPrintf(what, sizeof(what), "translation in x"));
+    else if (PetscAbsReal(tx) <= 1e-6 * tn) PetscCall(PetscSNPrintf(what, sizeof(what), "translation in y"));
+    else { /* a support along an inclined boundary: the free direction, sign fixed by its larger component */
+      PetscReal sg = (PetscAbsReal(tx) >= PetscAbsReal(ty) ? tx : ty) < 0 ? -1 : 1;
+      PetscCall(PetscSNPrintf(what, sizeof(what), "translation along (%.4f, %.4f)", (double)(sg * tx / tn), (double)(sg * ty / tn)));
+    }
+    if (when) SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s %s: the load separates the bodies and no -dirichlet support holds it", s->body[b].name, what, when);
+    SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s: no -dirichlet support and no contact surface resists it (frictionless contact holds only the normal direction)", s->body[b].name, what);
   }
   PetscFunctionReturn(0);
 }

@@ -112,7 +112,31 @@ static int SetHandlers(void)
   for (int k = 0; k < 3; k++) sigaddset(&sa.sa_mask, sigs[k]);
   for (int k = 0; k < 3; k++)
     if (sigaction(sigs[k], &sa, NULL)) return sigs[k];
+  /* stdout only reports progress: a reader that goes away (`mortar2d ... |
+   * head -1`) must not kill the run (PETSc's handler made that a 6-line
+   * "Caught signal 13 Broken Pipe" and exit 59); the writes fail quietly */
+  sa.sa_handler = SIG_IGN;
+  if (sigaction(SIGPIPE, &sa, NULL)) return SIGPIPE;
   return 0;
+}
+
+static int EnvInt(const char *const names[], int def)
+{
+  for (int k = 0; names[k]; k++) {
+    const char *v = getenv(names[k]);
+    if (v && *v) return atoi(v);
+  }
+  return def;
+}
+
+int M2dInstallEarlySignalHandlers(void)
+{
+  const char *const rank_vars[] = {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", NULL};
+  const char *const size_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", NULL};
+  world_rank = EnvInt(rank_vars, 0);
+  world_size = EnvInt(size_vars, 1);
+  owner      = getpid();
+  return SetHandlers();
 }
 
 PetscErrorCode M2dInstallSignalHandlers(void)
@@ -145,6 +169,11 @@ PetscErrorCode M2dSignalsBeforeFinalize(void)
   bad = SetHandlers();
   PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the handler of signal %d: %s", bad, strerror(errno));
   PetscFunctionReturn(0);
+}
+
+void M2dMetisSignal(int rc, int metis_error)
+{
+  if (rc == metis_error) raise(SIGTERM); /* GKlib restored our handler on return */
 }
 
 int M2dTempTryRecord(const char *path, PetscBool isdir)

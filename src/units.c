@@ -1,5 +1,9 @@
 /* units.c - reference units (see units.h). */
 #include "units.h"
+#include <math.h>
+
+#define M2D_UNITS_MIN 1e-300 /* results this small keep 8 decades above the subnormals */
+#define M2D_UNITS_MAX 1e300
 
 /* the power of two nearest to v > 0 (scaling by it is exact) */
 static PetscReal Pow2(PetscReal v)
@@ -40,7 +44,7 @@ static PetscReal LoadStress(const M2dScene *s, const PetscReal lo[2], const Pets
   for (PetscInt l = 0; l < s->nload; l++) {
     const M2dEdgeLoad *ld = &s->load[l];
     if (!ld->is_pressure) {
-      S = PetscMax(S, PetscSqrtReal(PetscSqr(ld->t[0]) + PetscSqr(ld->t[1])));
+      S = PetscMax(S, hypot(ld->t[0], ld->t[1])); /* no overflow of t^2 (a traction of 1e308 gave S = inf, then NaN) */
       continue;
     }
     for (int k = 0; k < 4; k++) {
@@ -63,8 +67,15 @@ PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u)
   for (PetscInt k = 0; k < s->ndir; k++) V = PetscMax(V, PetscMax(PetscAbsReal(s->dir[k].value[0]), PetscAbsReal(s->dir[k].value[1])));
   S = LoadStress(s, lo, hi);
   if (!(S > 0) && s->exact == M2D_EXACT_MMS) S = E * PetscAbsReal(s->mms_amplitude) / L;
-  if (!(S > 0)) S = E * V / L;
-  if (!(S > 0) || !PetscIsNormalReal(S)) S = E;
+  /* the stress of the prescribed displacements counts too: a value of 1e300
+   * with E = 1e9 scaled to 1e303 and overflowed to NaN in the solve */
+  if (V > 0) S = PetscMax(S, E * (V / L));
+  if (!(S > 0)) S = E;
+  /* stresses and displacements in the user's units must stay normal doubles
+   * with room to spare: a pressure of 1e-308 on E = 1e9 (displacements of
+   * 1e-317, subnormal) exited 0 with stresses wrong by 3e-4 */
+  PetscCheck(S >= M2D_UNITS_MIN && S <= M2D_UNITS_MAX && S * (L / E) >= M2D_UNITS_MIN && S * (L / E) <= M2D_UNITS_MAX, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT,
+             "the loads and prescribed displacements give stresses of about %g and displacements of about %g (largest E %g, size %g): double precision keeps results only within [%g, %g]; state the loads, moduli and lengths in other units", (double)S, (double)(S * (L / E)), (double)E, (double)L, M2D_UNITS_MIN, M2D_UNITS_MAX);
   u->L = Pow2(L);
   u->E = Pow2(E);
   u->S = Pow2(S);

@@ -113,6 +113,27 @@ int M2dMakeDirs(const char *path, char *msg, size_t len)
   return 0;
 }
 
+static const char *NodeKind(mode_t m)
+{
+  return S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device" : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
+int M2dCheckReplaceable(const char *path, char *msg, size_t len)
+{
+  struct stat st;
+
+  if (lstat(path, &st)) return 0; /* absent (or unreachable: the write says why) */
+  if (S_ISREG(st.st_mode)) return 0;
+  if (S_ISLNK(st.st_mode)) {
+    if (stat(path, &st)) return 0; /* a dangling link: replaced by the file */
+    if (S_ISREG(st.st_mode)) return 0;
+    snprintf(msg, len, "'%s' is a symbolic link to %s, not to a regular file (the file is written beside it and renamed over it: name a file)", path, NodeKind(st.st_mode));
+    return 1;
+  }
+  snprintf(msg, len, "'%s' is %s, not a regular file (the file is written beside it and renamed over it: name a file)", path, NodeKind(st.st_mode));
+  return 1;
+}
+
 PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char *fmt, ...)
 {
   va_list ap;

@@ -71,8 +71,24 @@ CASES = [
     ("Hertz level 0, -kkt_path iterative", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_path", "iterative"], 0),
     ("bad input: missing mesh file", ["-options_file", opts("patch_uniform"), "-mesh", missing], 1),
 ]
+# the block with one cell 1e-6 thin: refused while the mesh lists are built (mesh_read.c)
+thin = os.path.join(W, "thin_cell.msh")
+with open(thin, "w") as f:
+    f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 10 \"bottom\"\n0 11 \"origin\"\n2 1 \"block\"\n$EndPhysicalNames\n"
+            "$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 2 0 0\n4 0 1e-6 0\n5 1 1e-6 0\n6 2 1e-6 0\n$EndNodes\n"
+            "$Elements\n5\n1 1 2 10 1 1 2\n2 1 2 10 1 2 3\n3 15 2 11 1 1\n4 3 2 1 1 1 2 5 4\n5 3 2 1 1 2 3 6 5\n$EndElements\n")
+S2 = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")]
 if ARGS.error_paths:
     CASES += [
+        # mesh.c: a cell too thin for double precision (after the files are read, before the plex)
+        ("error path: a 1e-6 thin cell", ["-options_file", opts("block"), "-mesh", thin, "-pressure", "", "-exact", "none"], 1),
+        # problem.c / supports.c: the commonest bad input, before any solve (lost the Dirichlet values)
+        ("error path: a body held by nothing", ["-options_file", opts("block"), "-mesh", mesh("block"), "-dirichlet", "bottom:y"], 1),
+        # activeset.c / supports.c: the contact opens and the upper body is held by nothing
+        ("error path: S2 pulled apart", S2 + ["-pressure", "upper_top:-1e6"], 1),
+        # verify.c: after a whole solve, the equilibrium check fails (moduli 1e9 apart)
+        ("error path: S2 fails its equilibrium check", S2 + ["-lower_E", "1"], 1),
+
         ("error path: -lower_E -1", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-lower_E", "-1"], 1),
         ("error path: -contact_nonmortar nosuch", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_nonmortar", "nosuch"], 1),
         ("error path: -contact_mortar upper_top", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_mortar", "upper_top"], 1),

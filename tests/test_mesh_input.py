@@ -191,6 +191,8 @@ refused("three cells on one edge", BLOCK + ["-mesh", third], [third, "body 'bloc
 # non-positive tags
 negq = write("strip_negative_element.msh", msh22(strip_nodes, [(1, [1, 2, 5, 4]), (-2, [2, 3, 6, 5])], **strip_groups))
 refused("negative element tag", BLOCK + ["-mesh", negq], [negq, "element tag -2 is not positive"])
+dupq = write("strip_duplicate_element.msh", msh22(strip_nodes, [(1, [1, 2, 5, 4]), (1, [2, 3, 6, 5])], **strip_groups))
+refused("two quads of one element tag", BLOCK + ["-mesh", dupq], [dupq, "element tag 1 is used by two quadrilaterals"])
 zeroq = write("strip_zero_element.msh", msh22(strip_nodes, [(0, [1, 2, 5, 4]), (2, [2, 3, 6, 5])], **strip_groups))
 refused("element tag 0", BLOCK + ["-mesh", zeroq], [zeroq, "element tag 0 is not positive"])
 negn = write("strip_negative_node.msh", msh22(strip_nodes, [(1, [1, 2, 5, 4]), (2, [2, 3, 6, 5])], **strip_groups).replace("\n6 2.0 1.0 0\n", "\n-6 2.0 1.0 0\n"))
@@ -200,6 +202,37 @@ k, q = quads[7]
 L[k] = " ".join(["-%d" % q[0]] + [str(v) for v in q[1:]])
 negp = write("patch_negative_element.msh", "\n".join(L))
 refused("negative element tag (msh 4.1)", S2 + ["-mesh", negp], [negp, "element tag -%d is not positive" % q[0]], 2)
+
+
+# ---------------------------------------------------------------- what double precision can vouch for
+# the strip scaled in y (thin cells), in x (a tall column held against rotation
+# by its narrow bottom) and moved away from the origin, under uniform compression
+def strip_variant(name, fx, fy, dx=0.0):
+    nodes = {t: (fx * x + dx, fy * y + dx) for t, (x, y) in strip_nodes.items()}
+    return write(name, msh22(nodes, [(1, [1, 2, 5, 4]), (2, [2, 3, 6, 5])], **strip_groups))
+
+
+UNIFORM = BLOCK + ["-exact", "uniform"]
+
+
+def patch_err(s):
+    e = s["error"]
+    return max(e["sigma_yy_max_rel"], e["sigma_xx_max_rel"], e["sigma_xy_max_rel"])
+
+
+for what, path, tol in (("cells of aspect ratio 1e4 (1 x 1e-4)", strip_variant("strip_thin4.msh", 1, 1e-4), 1e-7),
+                        ("a column 2e-4 wide, 1 tall (cells of aspect 1e4) on its narrow bottom", strip_variant("strip_tall4.msh", 1e-4, 1), 1e-6),
+                        ("the strip moved to (1e6, 1e6)", strip_variant("strip_far6.msh", 1, 1, 1e6), 1e-8)):
+    for ranks in (1, 2):
+        s = solve("mesh_input/" + os.path.basename(path)[:-4] + "_%d" % ranks, UNIFORM + ["-mesh", path], ranks=ranks)
+        check(patch_err(s) < tol, "%s, %d rank(s): the uniform stress to %.1e (< %.0e)" % (what, ranks, patch_err(s), tol))
+# before: aspect 1e8 exited 0 with sigma_xx wrong by 0.46 of p, the strip at 1e12 with 2e-4
+thin8 = strip_variant("strip_thin8.msh", 1, 1e-8)
+far12 = strip_variant("strip_far12.msh", 1, 1, 1e12)
+for ranks in (1, 2):
+    refused("cells of aspect ratio 1e8", UNIFORM + ["-mesh", thin8], [thin8, "quadrilateral 1 is too thin", "aspect ratio 1e+08", "below 7e+04"], ranks)
+    refused("the strip moved to (1e12, 1e12)", UNIFORM + ["-mesh", far12], [far12, "quadrilateral 1 lies 1e+12 from the origin", "move the mesh near the origin"], ranks)
+refused("cells of aspect ratio 1e5", UNIFORM + ["-mesh", strip_variant("strip_thin5.msh", 1, 1e-5)], ["quadrilateral 1 is too thin", "aspect ratio 1e+05"])
 
 
 # ---------------------------------------------------------------- a strip wound around a centre

@@ -118,6 +118,7 @@ good("condensed path given PETSc solver options it does not use", PATCH + ["-opt
 good("fieldsplit (kkt_fieldsplit.opts)", PATCH + ["-options_file", opts("kkt_fieldsplit")])
 good("PETSc's partitioner options", PATCH + ["-mesh_partitioner", "petsc", "-petscpartitioner_type", "simple"])
 good("option names are case-insensitive (as PETSc)", BLOCK + ["-Block_E", "1e9", "-CONTACT_METHOD", "mortar"])
+good("PETSc tolerances inside their domain", PATCH + ["-ksp_rtol", "1e-8", "-snes_stol", "1e-8", "-snes_max_it", "2147483647"], ranklist=(1,))
 good("automatic values said explicitly", HERTZ0 + ["-contact_c", "auto", "-contact_reach", "AUTO", "-hertz_load", "auto"], ranklist=(1,))
 
 # ---------- 2. values outside their domain ----------
@@ -130,6 +131,8 @@ for opt, val, base in [("-contact_c", "0", PATCH), ("-contact_c", "-1", PATCH), 
                        ("-block_E", "inf", BLOCK), ("-block_E", "nan", BLOCK), ("-block_E", "1e9x", BLOCK),
                        ("-block_nu", "0.5", BLOCK), ("-block_nu", "-1", BLOCK),
                        ("-snes_max_it", "0", PATCH), ("-snes_max_it", "-3", PATCH), ("-snes_max_it", "ten", PATCH),
+                       ("-snes_max_it", "99999999999999999999", PATCH), ("-ksp_rtol", "-1", PATCH), ("-ksp_rtol", "1", PATCH),
+                       ("-snes_rtol", "-1", PATCH), ("-snes_atol", "nan", PATCH), ("-ksp_atol", "-1e-9", PATCH),
                        ("-mat_mumps_icntl_4", "5", PATCH), ("-mat_mumps_icntl_7", "1", PATCH), ("-mat_mumps_icntl_7", "8", PATCH),
                        ("-mat_mumps_icntl_8", "-1", PATCH), ("-mat_mumps_icntl_14", "-5", PATCH), ("-mat_mumps_icntl_58", "0", PATCH),
                        ("-mat_mumps_icntl_14", "2.5", PATCH), ("-kkt_ldlt", "maybe", PATCH), ("-mesh_check", "2", BLOCK)]:
@@ -163,6 +166,17 @@ if os.geteuid() != 0:  # root reads a chmod 000 file anyway
     bad("unreadable options file", BLOCK + ["-options_file", unreadable], [unreadable])
 else:
     print("skip unreadable (chmod 000) options file: running as root")
+# files that never end or block: /dev/zero and a FIFO hung the run (before); a
+# binary file's line is shown without control bytes
+fifo = os.path.join(W, "fifo.opts")
+if not os.path.exists(fifo):
+    os.mkfifo(fifo)
+bad("/dev/zero as options file", BLOCK + ["-options_file", "/dev/zero"], ["options file", "/dev/zero", "not a regular file (a character device)"])
+bad("a FIFO as options file", BLOCK + ["-options_file", fifo], ["options file", "fifo.opts", "not a regular file (a FIFO)"], ranklist=(1,))
+binary = os.path.join(W, "binary.opts")
+with open(binary, "wb") as f:
+    f.write(bytes([0xc3, 0x01, 0x7f, 0x1b]) + b"abc" * 40 + b"\n")
+bad("a binary options file", BLOCK + ["-options_file", binary], ["binary.opts", "line 1", "'????abcabc", "...' is not an option"], ranklist=(1,))
 good("the same file twice is no cycle", BLOCK + ["-options_file", write("twice.opts", "-options_file %s\n-options_file %s\n" % (opts("block"), opts("block")))], ranklist=(1,))
 
 # ---------- 4. unknown values of a choice ----------

@@ -32,6 +32,7 @@ import random
 import re
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -366,12 +367,50 @@ for k in range(4):
     rc, lines, when = interrupted(DP, "B", 1, sig, rng.uniform(0, (STEPS - 1) * DELAY) if k < 3 else 0.0, wait_for="stage" if k < 3 else "switch")
     check_interrupted("plain files of set A, SIG%s at %s" % ("KILL" if k < 3 else "INT", when), DP, sig, 1, rc, lines, "A", "B", REFS[1])
 
+# ---------------------------------------------------------------- Ctrl-C during the set-up
+# hertz_4 on 2 ranks, SIGINT to mpiexec while the mesh is partitioned and the
+# stiffness ordered: METIS (GKlib) trapped the SIGTERM mpiexec passes on and
+# the run ended in "option -kkt_ordering metis: METIS_NodeND failed (-4)"
+DM = os.path.join(W, "metis")
+for moment in (0.3, 0.5, 0.7, 0.9, 1.2):
+    shutil.rmtree(DM, ignore_errors=True)
+    p = subprocess.Popen(command(args(DM, "A", level=4), 2), cwd=SRC, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=ENV)
+    time.sleep(moment)
+    p.send_signal(signal.SIGINT)
+    perr = p.communicate(timeout=120)[1].decode()
+    lines = [l for l in perr.splitlines() if l.strip()]
+    report(p.returncode == 1 and len(lines) == 1 and MSG.match(lines[0]) is not None,
+           "hertz_4, 2 ranks, SIGINT to mpiexec %.1f s after the start: exit 1 and the interrupt's one line" % moment, "exit %d, %r" % (p.returncode, lines[:3]))
+
+# ---------------------------------------------------------------- a reader that goes away
+# `mortar2d ... | head -1`: stdout closed before the first line (before:
+# PETSc's "Caught signal 13 Broken Pipe", 6 lines, exit 59, no output)
+DPIPE = os.path.join(W, "pipe")
+shutil.rmtree(DPIPE, ignore_errors=True)
+p = subprocess.Popen(command(args(DPIPE, "A"), 1), cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=ENV)
+p.stdout.close()
+perr = p.stderr.read().decode()
+prc = p.wait(timeout=600)
+report(prc == 0 and not perr.strip() and classify(content(DPIPE), REFS[1]) == "A" and not leftovers(DPIPE),
+       "stdout closed by its reader: exit 0, no stderr, the complete set", "exit %d, stderr %r" % (prc, perr[-300:]))
+
 # ---------------------------------------------------------------- up-front checks
 afile = os.path.join(W, "afile")
 with open(afile, "w") as f:
     f.write("a regular file\n")
 adir = os.path.join(W, "adir")
 os.makedirs(adir, exist_ok=True)
+# files that are not regular: renaming the summary over them would replace the
+# node itself (as root `-summary /dev/null` replaced /dev/null); a FIFO, a link
+# to one, and a link to /dev/null stand in for a device (never /dev itself)
+afifo = os.path.join(W, "afifo")
+if not os.path.exists(afifo):
+    os.mkfifo(afifo)
+lfifo = os.path.join(W, "lfifo.json")
+lnull = os.path.join(W, "lnull.h5")
+for l, t in ((lfifo, afifo), (lnull, "/dev/null")):
+    if not os.path.islink(l):
+        os.symlink(t, l)
 
 
 def snapshot(d):
@@ -393,6 +432,10 @@ CASES = [
     ("-summary in /proc", ["-summary", "/proc/m2d.json"], ["-summary", "/proc"]),
     ("-summary an existing directory", ["-summary", adir], ["-summary", adir]),
     ("-summary through a regular file", ["-summary", os.path.join(afile, "s.json")], ["-summary", "afile"]),
+    ("-summary a FIFO", ["-summary", afifo], ["-summary", "afifo", "FIFO"]),
+    ("-summary a link to a FIFO", ["-summary", lfifo], ["-summary", "lfifo.json", "FIFO"]),
+    ("-summary a link to /dev/null", ["-summary", lnull], ["-summary", "lnull.h5", "character device"]),
+    ("-mesh_save a link to /dev/null", ["-mesh_save", lnull], ["-mesh_save", "lnull.h5", "character device"]),
     ("-summary names an output file", ["-summary", os.path.join(D, NAME + ".h5")], ["-summary", NAME + ".h5"]),
     ("-output_name with a double quote", ["-output_name", 'a"b'], ["-output_name", 'a"b']),
     ("-output_name with a single quote", ["-output_name", "a'b"], ["-output_name"]),
@@ -420,5 +463,7 @@ for what, extra, culprits in CASES:
             problems.append("D changed")
         report(not problems, "%s [%d rank%s]" % (what, ranks, "s" if ranks > 1 else ""), "; ".join(problems) or lines[0])
 report(classify(content(D), REFS[1]) == "A" and neighbours() == NB, "after the refused runs D still holds set A and its neighbours")
+report(os.path.islink(lnull) and os.readlink(lnull) == "/dev/null" and os.path.islink(lfifo) and stat.S_ISFIFO(os.lstat(afifo).st_mode)
+       and stat.S_ISCHR(os.stat("/dev/null").st_mode), "the FIFO, the links and /dev/null are untouched")
 print("%d passed, %d failed" % (passed, failed))
 raise SystemExit(1 if failed else 0)

@@ -63,6 +63,29 @@ for ranks in (1, 2):
         gaps = [float(r["gap"]) for r in csv.DictReader(f)]
     check(max(abs(g - 0.01) for g in gaps) < 1e-12, "supported bodies pulled apart, %d rank(s): gap = 0.01 at every node (%.1e)" % (ranks, max(abs(g - 0.01) for g in gaps)))
 
+# a -contact_c far from E*/h^2 is named as the cause (before: "keeps cycling ...
+# check the load direction and the supports", "did not settle", DIVERGED_FNORM_NAN)
+for c in ("1e-20", "1e200"):
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_c", HZ + ["-contact_c", c], ranks)
+        check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: active set ") and (": -contact_c %g is" % float(c)) in lines[0] and "times the automatic value" in lines[0],
+              "Hertz with -contact_c %s, %d rank(s): one line naming -contact_c: %s" % (c, ranks, lines[-1] if lines else "(none)"))
+
+# nodes beyond -contact_reach carry no multiplier: one that ends inside the
+# other body fails the contact check (before: Hertz level 0 with -contact_reach
+# 1e-6 exited 0 with 2 multipliers and a pressure 2.2 times off Hertz's)
+for ranks in (1, 2):
+    rc, lines = one_line_error("trust_reach", HZ + ["-contact_reach", "1e-6"], ranks)
+    check(rc == 1 and len(lines) == 1 and "the answer fails its contact check: non-mortar node (" in lines[0] and "inside 'block_top' but carries no multiplier" in lines[0]
+          and "raise -contact_reach" in lines[0], "Hertz with -contact_reach 1e-6, %d rank(s): one line: %s" % (ranks, lines[-1] if lines else "(none)"))
+# the reach is stated in the user's units (before: S2's -contact_reach 1e-6 was
+# reported as "within 5e-07", the reference length being 2)
+rc, lines = one_line_error("trust_reach_gap", S2 + ["-mesh", mesh("patch_gap"), "-contact_reach", "1e-6", "-exact", "none"], 1)
+check(rc == 1 and len(lines) == 1 and "never face each other within 1e-06 (-contact_reach)" in lines[0], "S2 with a gap and -contact_reach 1e-6: the line states 1e-06: %s" % (lines[-1] if lines else ""))
+r1 = solve("trust_reach_ok", HZ + ["-contact_reach", "0.02"])
+r0 = solve("trust_reach_auto", HZ)
+check(abs(r1["pressure_l2_rel"] - r0["pressure_l2_rel"]) < 1e-9, "Hertz with -contact_reach 0.02 (all the contact zone within reach): the answer of the automatic reach (%.6e = %.6e)" % (r1["pressure_l2_rel"], r0["pressure_l2_rel"]))
+
 # ---------------------------------------------------------------- 2. units
 ref = None
 for E in ("1e-20", "1e-10", "1", "1e9", "1e20"):
@@ -71,6 +94,45 @@ for E in ("1e-20", "1e-10", "1", "1e9", "1e20"):
         err = patch_error(s)
         check(err < 1e-10 and accepted(s), "S2, E = %s, %d rank(s): stresses exact to %.1e of p, contact force %.12e" % (E, ranks, err, s["contact_force"]))
         check(abs(s["contact_force"] / 1e6 - 1) < 1e-10, "S2, E = %s, %d rank(s): contact force = p x 1 m" % (E, ranks))
+# bodies of very different moduli: ratio 1e15 (stiff body supported) is exact;
+# beyond 1/eps one line up front, the same on 1 and 2 ranks (before: E ratio
+# 1e19 gave "cycling" on 1 rank and "held by nothing" on 2, 1e309 a MUMPS
+# INFOG(1) = -9 blamed on -mat_mumps_icntl_14); a soft support under a stiff
+# body held by contact (ratio 1e9) fails its equilibrium check, blamed on the moduli
+for ranks in (1, 2):
+    s = solve("trust_ratio15_%d" % ranks, S2 + ["-lower_E", "1e24"], ranks=ranks)
+    check(patch_error(s) < 1e-10 and accepted(s), "S2, E 1e24 under 1e9, %d rank(s): exact to %.1e" % (ranks, patch_error(s)))
+for lowerE, culprits in (("1e-10", ["-lower_E 1e-10", "-upper_E 1e+09", "differ by a factor 1e+19"]),
+                         ("1e-300", ["-lower_E 1e-300", "differ by a factor 1e+309"]),
+                         ("1", ["equilibrium check", "moduli of 'lower' and 'upper' differ by a factor 1.0e+09", "-lower_E"])):
+    got = {}
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_ratio", S2 + ["-lower_E", lowerE], ranks)
+        check(rc == 1 and len(lines) == 1 and all(c in lines[0] for c in culprits),
+              "S2, -lower_E %s under 1e9, %d rank(s): one line naming %s: %s" % (lowerE, ranks, culprits, lines[-1] if lines else "(none)"))
+        got[ranks] = lines[0].split(":")[2] if lowerE != "1" else culprits[1]
+    check(got[1] == got[2], "S2, -lower_E %s: the same diagnosis on 1 and 2 ranks" % lowerE)
+# results that double precision cannot hold in the user's units: one line
+# (before: a pressure of 1e-308 on E = 1e9 exited 0 with stresses wrong by
+# 3.1e-4, its displacements being subnormal; a traction of 1e308 and a
+# prescribed displacement of 1e300 ended in DIVERGED_FNORM_NAN); E = 1e-300
+# with p = 1e-290 (displacements of order 1) is exact
+for what, extra, culprits in (("pressure 1e-308", ["-pressure", "upper_top:1e-308"], ["stresses of about 1e-308", "displacements of about 1.41421e-317"]),
+                              ("traction 1e308", ["-traction", "upper_top:1e6:1e308"], ["stresses of about 1e+308"]),
+                              ("displacement 1e300", ["-dirichlet", "lower_bottom:y,lower_origin:x,lower_left:x,upper_left:x:1e300"], ["stresses of about inf"])):
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_range", S2 + extra, ranks)
+        check(rc == 1 and len(lines) == 1 and all(c in lines[0] for c in culprits + ["state the loads, moduli and lengths in other units"]),
+              "S2 with a %s, %d rank(s): one line: %s" % (what, ranks, lines[-1] if lines else "(none)"))
+s = solve("trust_E300", S2 + ["-lower_E", "1e-300", "-upper_E", "1e-300", "-pressure", "upper_top:1e-290"])
+check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1e-290 - 1) < 1e-10 and accepted(s), "S2, E = 1e-300, p = 1e-290: exact to %.1e, force p x 1 m" % patch_error(s))
+# the same on the paths that refactor each step: the active set does not
+# settle, and the moduli are named (before: "did not settle in 50 steps (-snes_max_it)")
+for extra in (["-kkt_path", "full"], ["-snes_type", "vinewtonrsls"]):
+    for ranks in (1, 2):
+        rc, lines = one_line_error("trust_ratio_full", S2 + ["-lower_E", "1"] + extra, ranks)
+        check(rc == 1 and len(lines) == 1 and "the moduli of 'lower' and 'upper' differ by a factor 1.0e+09" in lines[0],
+              "S2, -lower_E 1 under 1e9, %s, %d rank(s): one line naming the moduli: %s" % (" ".join(extra), ranks, lines[-1] if lines else "(none)"))
 for ranks in (1, 2):
     s = solve("trust_um_%d" % ranks, S2 + ["-mesh_scale", "1e-6"], ranks=ranks)
     check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1.0 - 1) < 1e-10,
@@ -114,6 +176,14 @@ for ranks in (1, 2):
 # the same held tangentially on the upper body's left edge: nothing holds it along the edge
 rc, lines = one_line_error("trust_incl_t", S2 + ["-mesh", mesh("patch_incl30"), "-dirichlet", "lower_bottom:n,lower_left:n,upper_left:t", "-exact_angle", "30"], 1)
 check(rc == 1 and len(lines) == 1 and "body 'upper' is held by nothing" in lines[0], "upper left edge held only along itself (G:t): one line: %s" % (lines[-1] if lines else ""))
+# the lower body on a tangential support of its bottom and rollers on its left
+# edge: both hold the same direction, the lower body (carrying the upper one)
+# is free along the bottom's normal (-sin 30, cos 30); before, 1 rank named
+# 'lower' and 2 ranks 'upper', both "in y"
+for ranks in (1, 2):
+    rc, lines = one_line_error("trust_incl_bt", S2 + ["-mesh", mesh("patch_incl30"), "-dirichlet", "lower_bottom:t,lower_left:n,upper_left:n", "-exact_angle", "30"], ranks)
+    check(rc == 1 and len(lines) == 1 and "body 'lower' is held by nothing against translation along (-0.5000, 0.8660)" in lines[0],
+          "bottom held only tangentially, %d rank(s): one line naming 'lower' and the free direction: %s" % (ranks, lines[-1] if lines else ""))
 # rollers along axis-parallel edges are the plain supports: same answer as x/y
 a = solve("trust_n_axis", S2 + ["-dirichlet", "lower_bottom:n,lower_origin:x,lower_left:n,upper_left:n"])
 check(patch_error(a) < 1e-10, "S2 with G:n rollers on axis-parallel edges: exact to %.1e" % patch_error(a))
