@@ -44,8 +44,10 @@ typedef struct {
 
 /* Indicators eta[] (one per local cell, caller allocates) and their global
  * sums in *e for the displacement u (global vector). ct: the contact pair after
- * ContactResults, or NULL (volume part only). Collective on the mesh's comm. */
-PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], M2dErrorEstimate *e);
+ * ContactResults, or NULL (volume part only). eta_volume (may be NULL): the
+ * same cells' volume part alone, from the same recovery. Collective on the
+ * mesh's comm. */
+PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], M2dErrorEstimate *e);
 
 /* True energy-norm error ||sig - sig_h||_{C^-1} and ||sig||_{C^-1} (3x3 Gauss)
  * where the scene knows the answer (-exact mms: sig from finite differences of

@@ -459,7 +459,7 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContact *ct, const Sur
 }
 
 
-PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], M2dErrorEstimate *e)
+PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], M2dErrorEstimate *e)
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)m->dm);
   Ctx       x;
@@ -486,6 +486,8 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
     if (ct) PetscCall(SurfPick(m, ct, b, sv, has, &sf));
   }
   for (PetscInt c = 0; c < nlc; c++) vol += eta[c];
+  if (eta_volume)
+    for (PetscInt c = 0; c < nlc; c++) eta_volume[c] = PetscSqrtReal(eta[c]);
   loc[0] = vol;
   if (ct) {
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sf.snm, (PetscMPIInt)(3 * ct->nm.nnode), MPIU_REAL, MPI_SUM, comm));

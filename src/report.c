@@ -180,7 +180,7 @@ static PetscErrorCode GoalIndicators(M2dProblem *pb, M2dSolution *sol, const M2d
   PetscCall(VecDuplicate(sol->u, &z));
   PetscCall(M2dDualSolve(pb, sol, z));
   PetscCall(PetscMalloc3(nlc + 1, &az, nlc + 1, &g, nlc + 1, &h));
-  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, z, NULL, eo->recovery, az, &ez));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, z, NULL, eo->recovery, az, NULL, &ez));
   for (PetscInt c = 0; c < nlc; c++) {
     g[c] = PetscSqrtReal(eta[c] * az[c] * fig->est.energy_norm / PetscMax(ez.energy_norm, PETSC_SMALL));
     s2 += g[c] * g[c];
@@ -206,16 +206,15 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
   const M2dContact *ct   = pb->has_contact ? &pb->contact : NULL;
   PetscInt          nlc  = pb->mesh.cEnd - pb->mesh.cStart;
-  PetscReal        *a, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
-  M2dErrorEstimate  vol, *est = &fig->est;
+  PetscReal        *a, *av, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
+  M2dErrorEstimate *est = &fig->est;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(M2D_ETA_FIELDS * nlc + 1, &sol->eta));
-  PetscCall(PetscMalloc3(nlc + 1, &a, nlc + 1, &h, nlc + 1, &hn));
-  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, NULL, eo->recovery, a, &vol));
-  for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = a[c] * scale;
+  PetscCall(PetscMalloc4(nlc + 1, &a, nlc + 1, &av, nlc + 1, &h, nlc + 1, &hn));
   fig->goal_estimate = -1;
-  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, est));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, av, est)); /* one recovery: the indicators and their volume part */
+  for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = av[c] * scale;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) PetscCall(GoalIndicators(pb, sol, eo, a, fig, sum, hn));
   else PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
@@ -243,7 +242,7 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
     fig->effectivity    = err > 0 ? est->estimate / err : 0;
     PetscCall(PetscPrintf(comm, "true energy-norm error %.4e, effectivity %.4f\n", (double)(err * scale), (double)(err > 0 ? est->estimate / err : 0)));
   }
-  PetscCall(PetscFree3(a, h, hn));
+  PetscCall(PetscFree4(a, av, h, hn));
   PetscFunctionReturn(0);
 }
 
