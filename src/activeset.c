@@ -1,43 +1,7 @@
 /* activeset.c - unilateral contact by semismooth Newton (PDAS) or
  * SNESVINEWTONRSLS (see activeset.h). */
-#include "activeset.h"
-#include "condensed.h"
-#include "iterative.h"
+#include "activeset_impl.h"
 #include "optcheck.h"
-#include <petscsnes.h>
-
-#define M2D_MAX_HISTORY 1024
-
-/* the sets visited, to detect cycling: a hash and a count per step */
-typedef struct {
-  PetscInt  n, cycles, max_cycles;
-  uint64_t  hash[M2D_MAX_HISTORY];
-  PetscInt  count[M2D_MAX_HISTORY];
-  PetscBool failed;
-} M2dSetHistory;
-
-typedef struct {
-  M2dProblem   *pb;
-  M2dKKT       *kkt;
-  PetscReal     c;      /* complementarity parameter */
-  PetscReal     h;      /* mean non-mortar edge length: rows scaled by c h (weighted gap -> force) */
-  PetscBool     vi, monitor;
-  Vec           u, lam; /* the iterate's displacement and multipliers */
-  Vec           gm;     /* C u - r = -(weighted gap) */
-  Vec           tol;    /* tie tolerance per multiplier */
-  Vec           active; /* mask at the current iterate */
-  Vec           used;   /* the mask the last Jacobian used */
-  PetscInt      nactive, entered, left;
-  PetscReal     fnorm0, fnorm_prev;
-  PetscBool     unchanged_before;
-  M2dSetHistory hist;
-  M2dCondensed *cond;    /* condensed path (the SNES unknown is nu, condensed.h), or NULL */
-  M2dIterative *iter;    /* iterative path (each step's solve, iterative.h), or NULL */
-  Vec           cu;      /* condensed path: C u(nu) */
-  Vec           all;     /* the mask on every rank (the held-bodies check) */
-  VecScatter    toall;
-  PetscInt      step;    /* active-set steps taken */
-} M2dActiveSet;
 
 /* c in the user's units (the summary's contact_c): lambda / c is a weighted gap */
 static PetscReal CUser(const M2dProblem *pb)
@@ -68,7 +32,7 @@ static uint64_t Mix(uint64_t x)
 }
 
 /* active mask at (u, lam); counts against `used` */
-static PetscErrorCode UpdateMask(M2dActiveSet *as)
+PetscErrorCode ActiveSetUpdateMask(M2dActiveSet *as)
 {
   const PetscScalar *l, *g, *t, *un;
   PetscScalar       *a;
@@ -103,7 +67,7 @@ static PetscErrorCode UpdateMask(M2dActiveSet *as)
 }
 
 /* F_u = K u + C^T lambda - f (+ the augmented rows), F_lambda = c h max(-lambda/c, C u - r) */
-static PetscErrorCode FormFunction(SNES snes, Vec z, Vec F, void *ctx)
+PetscErrorCode ActiveSetFunction(SNES snes, Vec z, Vec F, void *ctx)
 {
   M2dActiveSet *as  = (M2dActiveSet *)ctx;
   M2dKKT       *kkt = as->kkt;
@@ -115,7 +79,7 @@ static PetscErrorCode FormFunction(SNES snes, Vec z, Vec F, void *ctx)
   PetscCall(VecISCopy(z, kkt->isl, SCATTER_REVERSE, as->lam));
   PetscCall(MatMult(kkt->C, as->u, as->gm));
   PetscCall(VecAXPY(as->gm, -1.0, kkt->r));
-  PetscCall(UpdateMask(as));
+  PetscCall(ActiveSetUpdateMask(as));
   PetscCall(VecDuplicate(as->u, &Fu));
   PetscCall(VecDuplicate(as->lam, &Fl));
   PetscCall(MatMult(kkt->K, as->u, Fu));
@@ -181,7 +145,7 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
       }
       PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)(as->c * CUser(as->pb)), (double)(10 * as->c * CUser(as->pb))));
       as->c *= 10;
-      PetscCall(UpdateMask(as));
+      PetscCall(ActiveSetUpdateMask(as));
       PetscCall(ActiveHash(as, &h));
       break;
     }
@@ -196,7 +160,7 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
  * leaves a body free (no support, no closed contact node against one of its
  * rigid motions) makes the step singular: the contact has opened and nothing
  * holds the body, which is the answer, stated in one line. */
-static PetscErrorCode ChooseSet(M2dActiveSet *as, MPI_Comm comm)
+PetscErrorCode ActiveSetChooseSet(M2dActiveSet *as, MPI_Comm comm)
 {
   M2dProblem        *pb = as->pb;
   const PetscScalar *a;
@@ -215,7 +179,7 @@ static PetscErrorCode ChooseSet(M2dActiveSet *as, MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
+PetscErrorCode ActiveSetJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
 {
   M2dActiveSet *as = (M2dActiveSet *)ctx;
 
@@ -223,128 +187,10 @@ static PetscErrorCode FormJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx)
   (void)z;
   (void)P;
   if (as->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
-  PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
+  PetscCall(ActiveSetChooseSet(as, PetscObjectComm((PetscObject)snes)));
   if (as->cond) PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, J));
   else PetscCall(KKTSetActive(as->kkt, as->active, as->c, as->c * as->h));
   if (as->iter) PetscCall(M2dIterativeSetActive(as->iter, as->active, as->c, as->c * as->h));
-  PetscFunctionReturn(0);
-}
-
-/* condensed path: F(nu) = c h max(-lambda/c, C u - r) with C u = w + S0 nu and
- * lambda = nu + g C u (condensed.h); the u rows hold for every nu */
-static PetscErrorCode CondensedFunction(SNES snes, Vec nu, Vec F, void *ctx)
-{
-  M2dActiveSet      *as = (M2dActiveSet *)ctx;
-  const PetscScalar *v, *cu, *r;
-  PetscScalar       *l, *g, *f;
-  PetscInt           n;
-  PetscReal          gam = as->kkt->gamma;
-
-  PetscFunctionBeginUser;
-  (void)snes;
-  PetscCall(CondensedGaps(as->cond, nu, as->cu));
-  PetscCall(VecGetLocalSize(nu, &n));
-  PetscCall(VecGetArrayRead(nu, &v));
-  PetscCall(VecGetArrayRead(as->cu, &cu));
-  PetscCall(VecGetArrayRead(as->kkt->r, &r));
-  PetscCall(VecGetArray(as->lam, &l));
-  PetscCall(VecGetArray(as->gm, &g));
-  for (PetscInt j = 0; j < n; j++) {
-    g[j] = cu[j] - r[j];
-    l[j] = v[j] + gam * cu[j];
-  }
-  PetscCall(VecRestoreArray(as->gm, &g));
-  PetscCall(VecRestoreArray(as->lam, &l));
-  PetscCall(VecRestoreArrayRead(as->kkt->r, &r));
-  PetscCall(VecRestoreArrayRead(as->cu, &cu));
-  PetscCall(VecRestoreArrayRead(nu, &v));
-  PetscCall(UpdateMask(as));
-  PetscCall(VecGetArrayRead(as->lam, (const PetscScalar **)&l));
-  PetscCall(VecGetArrayRead(as->gm, (const PetscScalar **)&g));
-  PetscCall(VecGetArray(F, &f));
-  for (PetscInt j = 0; j < n; j++) f[j] = as->c * as->h * PetscMax(-PetscRealPart(l[j]) / as->c, PetscRealPart(g[j]));
-  PetscCall(VecRestoreArray(F, &f));
-  PetscCall(VecRestoreArrayRead(as->gm, (const PetscScalar **)&g));
-  PetscCall(VecRestoreArrayRead(as->lam, (const PetscScalar **)&l));
-  PetscFunctionReturn(0);
-}
-
-/* Condensed path: the first step as the full path takes it - the set of
- * (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
- * set's linear piece at nu = 0, where C u(0) = w. The SNES starts from nu0. */
-static PetscErrorCode CondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *nu, Mat *J)
-{
-  M2dKKT            *kkt = as->kkt;
-  Vec                F0, F;
-  PetscInt           n, N;
-  const PetscScalar *w, *r, *a;
-  PetscScalar       *f;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(kkt->r, &as->cu));
-  PetscCall(VecDuplicate(kkt->r, nu));
-  PetscCall(VecZeroEntries(*nu));
-  PetscCall(CondensedGaps(as->cond, *nu, as->cu)); /* w = C u(0) */
-  PetscCall(VecDuplicate(kkt->r, &F0));
-  PetscCall(VecGetLocalSize(kkt->r, &n));
-  PetscCall(VecGetSize(kkt->r, &N));
-  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, J));
-  /* the full path's start z0 = (0, lambda0): its residual sets the first mask and
-   * the norm the relative tolerance refers to */
-  PetscCall(VecDuplicate(z0, &F));
-  PetscCall(FormFunction(snes, z0, F, as));
-  PetscCall(VecNorm(F, NORM_2, &as->fnorm0));
-  PetscCall(VecDestroy(&F));
-  PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
-  PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, *J));
-  PetscCall(VecGetArrayRead(as->cu, &w));
-  PetscCall(VecGetArrayRead(kkt->r, &r));
-  PetscCall(VecGetArrayRead(as->active, &a));
-  PetscCall(VecGetArray(F0, &f));
-  for (PetscInt j = 0; j < n; j++) f[j] = PetscRealPart(a[j]) != 0 ? -as->c * as->h * (w[j] - r[j]) : as->h * kkt->gamma * w[j];
-  PetscCall(VecRestoreArray(F0, &f));
-  PetscCall(VecRestoreArrayRead(as->active, &a));
-  PetscCall(VecRestoreArrayRead(kkt->r, &r));
-  PetscCall(VecRestoreArrayRead(as->cu, &w));
-  PetscCall(CondensedJacobianFactor(as->cond, *J));
-  PetscCall(CondensedJacobianSolve(as->cond, F0, *nu));
-  PetscCall(VecDestroy(&F0));
-  PetscCall(VecDuplicate(kkt->r, &F));
-  PetscCall(SNESSetFunction(snes, F, CondensedFunction, as));
-  PetscCall(VecDestroy(&F));
-  PetscCall(SNESSetJacobian(snes, *J, *J, FormJacobian, as));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode IterativePCApply(PC pc, Vec b, Vec y)
-{
-  M2dIterative *it;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &it));
-  PetscCall(M2dIterativeSolve(it, b, y));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode DensePCSetUp(PC pc)
-{
-  M2dCondensed *cs;
-  Mat           P;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(PCGetOperators(pc, NULL, &P));
-  PetscCall(CondensedJacobianFactor(cs, P));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode DensePCApply(PC pc, Vec b, Vec y)
-{
-  M2dCondensed *cs;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(CondensedJacobianSolve(cs, b, y));
   PetscFunctionReturn(0);
 }
 
@@ -386,7 +232,7 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
   PetscFunctionBeginUser;
   if (as->vi && it > 0) { /* the VI solver has no Jacobian hook of ours */
     as->step = it;
-    PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
+    PetscCall(ActiveSetChooseSet(as, PetscObjectComm((PetscObject)snes)));
   }
   if (!as->monitor) PetscFunctionReturn(0);
   PetscCall(SNESGetFunction(snes, &F, NULL, NULL));
@@ -489,51 +335,6 @@ static PetscErrorCode ConfigureSNES(SNES snes, M2dActiveSet *as, M2dSolverPath p
   PetscFunctionReturn(0);
 }
 
-/* condensed path: factor once; the SNES unknown is nu, its dense Jacobian solved by LAPACK on every rank */
-static PetscErrorCode SetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info)
-{
-  KSP              ksp;
-  PC               pc;
-  M2dCondensedInfo ci;
-
-  PetscFunctionBeginUser;
-  PetscCheck(as->kkt->aij && as->kkt->gamma > 0, PetscObjectComm((PetscObject)snes), PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
-  PetscCall(CondensedCreateFromKKT(as->kkt, &as->pb->s, &as->cond));
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PCShellSetContext(pc, as->cond));
-  PetscCall(PCShellSetSetUp(pc, DensePCSetUp));
-  PetscCall(PCShellSetApply(pc, DensePCApply));
-  PetscCall(PCShellSetName(pc, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
-  PetscCall(CondensedGetInfo(as->cond, &ci));
-  info->factor_time        = ci.factor_time;
-  info->factor_flops       = ci.flops_sum;
-  info->factor_flops_max   = ci.flops_max;
-  info->interface_unknowns = ci.interface_unknowns;
-  PetscFunctionReturn(0);
-}
-
-/* iterative path: each step's KKT solve by M2dIterativeSolve (a PCSHELL
- * behind KSPPREONLY), set up by FormJacobian for the step's set */
-static PetscErrorCode SetupIterative(SNES snes, M2dActiveSet *as)
-{
-  KSP ksp;
-  PC  pc;
-
-  PetscFunctionBeginUser;
-  PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PCShellSetContext(pc, as->iter));
-  PetscCall(PCShellSetApply(pc, IterativePCApply));
-  PetscCall(PCShellSetName(pc, "multipliers eliminated, CG + AMG in u (iterative.h)"));
-  PetscFunctionReturn(0);
-}
-
 /* lambda0_j = c max(g~0_j, 0) makes node j active at the start: the set of
  * the previous mesh carried over by position (pb->warm), every candidate
  * (all), or those whose nodal gap g~0/w is within 1e-6 of the mortar
@@ -565,37 +366,6 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   PetscCall(VecRestoreArray(as->lam, &l));
   PetscCall(VecRestoreArrayRead(as->kkt->r, &r));
   PetscCall(VecISCopy(z, as->kkt->isl, SCATTER_FORWARD, as->lam));
-  PetscFunctionReturn(0);
-}
-
-/* vinewtonrsls: Jacobian [K C^T; -C 0] (all rows, multiplier rows negated), lambda >= 0 */
-static PetscErrorCode SetupVI(SNES snes, M2dActiveSet *as, Vec z)
-{
-  M2dKKT *kkt  = as->kkt;
-  MPI_Comm comm = PetscObjectComm((PetscObject)snes);
-  Vec     lower, upper, sign;
-
-  PetscFunctionBeginUser;
-  PetscCheck(kkt->aij, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: needs the monolithic matrix (-kkt_mat aij)");
-  PetscCheck(kkt->gamma == 0, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: does not combine with -kkt_augment");
-  PetscCall(VecSet(as->active, 1.0));
-  PetscCall(KKTSetActive(kkt, as->active, as->c, as->c * as->h));
-  PetscCall(VecDuplicate(z, &sign));
-  PetscCall(VecSet(sign, 1.0));
-  PetscCall(VecSet(as->lam, -1.0));
-  PetscCall(VecISCopy(sign, kkt->isl, SCATTER_FORWARD, as->lam));
-  PetscCall(MatDiagonalScale(kkt->A, sign, NULL));
-  PetscCall(VecDestroy(&sign));
-  PetscCall(VecDuplicate(z, &lower));
-  PetscCall(VecDuplicate(z, &upper));
-  PetscCall(VecSet(upper, PETSC_INFINITY));
-  PetscCall(VecSet(lower, PETSC_NINFINITY));
-  PetscCall(VecZeroEntries(as->lam));
-  PetscCall(VecISCopy(lower, kkt->isl, SCATTER_FORWARD, as->lam));
-  PetscCall(SNESVISetVariableBounds(snes, lower, upper));
-  PetscCall(VecDestroy(&lower));
-  PetscCall(VecDestroy(&upper));
-  PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, FormJacobian, as));
   PetscFunctionReturn(0);
 }
 
@@ -651,7 +421,7 @@ static PetscErrorCode Finish(M2dActiveSet *as, Vec z, Vec nu, Vec u, Vec lam)
   }
   if (as->vi) { /* active = positive multiplier */
     PetscCall(VecCopy(lam, as->lam));
-    PetscCall(UpdateMask(as));
+    PetscCall(ActiveSetUpdateMask(as));
   } else PetscCall(VecPointwiseMult(lam, lam, as->active)); /* inactive rows: lambda = 0 exactly, not round-off */
   PetscFunctionReturn(0);
 }
@@ -671,9 +441,9 @@ static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path,
 
   PetscFunctionBeginUser;
   PetscCall(ConfigureSNES(snes, as, path));
-  if (path == M2D_PATH_ITERATIVE) PetscCall(SetupIterative(snes, as));
+  if (path == M2D_PATH_ITERATIVE) PetscCall(ActiveSetSetupIterative(snes, as));
   PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
-  if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(SetupCondensed(snes, as, info));
+  if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(ActiveSetSetupCondensed(snes, as, info));
   else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;
     PetscCall(SNESGetKSP(snes, &ksp));
@@ -720,11 +490,11 @@ static PetscErrorCode SolveRun(M2dProblem *pb, M2dSolverPath path, Vec u, Vec la
   PetscCall(VecDuplicate(pb->kkt.x, &w->z));
   PetscCall(VecDuplicate(pb->kkt.x, &w->F));
   PetscCall(InitialMultipliers(as, w->z));
-  PetscCall(SNESSetFunction(w->snes, w->F, FormFunction, as));
-  if (as->vi) PetscCall(SetupVI(w->snes, as, w->z));
+  PetscCall(SNESSetFunction(w->snes, w->F, ActiveSetFunction, as));
+  if (as->vi) PetscCall(ActiveSetSetupVI(w->snes, as, w->z));
   else PetscCall(SNESSetConvergenceTest(w->snes, Converged, as, NULL));
-  if (as->cond) PetscCall(CondensedStart(w->snes, as, w->z, &w->nu, &w->Jc));
-  else if (!as->vi) PetscCall(SNESSetJacobian(w->snes, pb->kkt.A, pb->kkt.A, FormJacobian, as));
+  if (as->cond) PetscCall(ActiveSetCondensedStart(w->snes, as, w->z, &w->nu, &w->Jc));
+  else if (!as->vi) PetscCall(SNESSetJacobian(w->snes, pb->kkt.A, pb->kkt.A, ActiveSetJacobian, as));
   PetscCall(SNESMonitorSet(w->snes, Monitor, as, NULL));
   PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes\n", as->vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as->cond ? "K factored once, steps on the multipliers (condensed)" : as->iter ? "multipliers eliminated, CG + AMG in u (iterative)" : "KKT refactored each step (full)", (double)(as->c * CUser(pb)), pb->kkt.nlam));
   PetscCall(SNESSolve(w->snes, NULL, as->cond ? w->nu : w->z));

@@ -14,7 +14,7 @@ directory appears, and one run per case is interrupted right after the switch.
 After every run:
   - D's five names (hertz.h5/.xmf/.vtu/_contact.csv, summary.json) are the
     complete previous set or the complete new set, byte for byte (the summary
-    without its "time" object) -- never a mix, never a missing file;
+    without its "time" object and memory figure) -- never a mix, never a missing file;
   - SIGINT/SIGTERM: exit code 1, one stderr line "mortar2d: error: interrupted
     by SIG...; no output written, previous results kept" (then D holds the
     previous set) or "...; the output was already complete" (the new set), and
@@ -95,7 +95,7 @@ def read_file(p, n):
             return [np.loadtxt(p, delimiter=",", skiprows=1)]
         if n.endswith(".json"):
             j = json.loads(b)
-            for k in ("time", "residual_rel", "complementarity"):  # timings and round-off figures
+            for k in ("time", "residual_rel", "complementarity", "memory_max_rank_mb"):  # timings, memory and round-off figures
                 j.pop(k, None)
             return j
         return b

@@ -1,0 +1,56 @@
+/* activeset_impl.h - the active-set iteration's internals, shared by
+ * activeset.c (the iteration: masks, residual, Jacobian, convergence, the
+ * solve) and activeset_paths.c (what each solver path adds: the condensed
+ * path's iteration on the multipliers, the iterative path's solves, the VI
+ * solver's bounds). Not public. */
+#ifndef M2D_ACTIVESET_IMPL_H
+#define M2D_ACTIVESET_IMPL_H
+#include "activeset.h"
+#include "condensed.h"
+#include "iterative.h"
+#include <petscsnes.h>
+
+#define M2D_MAX_HISTORY 1024
+
+/* the sets visited, to detect cycling: a hash and a count per step */
+typedef struct {
+  PetscInt  n, cycles, max_cycles;
+  uint64_t  hash[M2D_MAX_HISTORY];
+  PetscInt  count[M2D_MAX_HISTORY];
+  PetscBool failed;
+} M2dSetHistory;
+
+typedef struct {
+  M2dProblem   *pb;
+  M2dKKT       *kkt;
+  PetscReal     c;      /* complementarity parameter */
+  PetscReal     h;      /* mean non-mortar edge length: rows scaled by c h (weighted gap -> force) */
+  PetscBool     vi, monitor;
+  Vec           u, lam; /* the iterate's displacement and multipliers */
+  Vec           gm;     /* C u - r = -(weighted gap) */
+  Vec           tol;    /* tie tolerance per multiplier */
+  Vec           active; /* mask at the current iterate */
+  Vec           used;   /* the mask the last Jacobian used */
+  PetscInt      nactive, entered, left;
+  PetscReal     fnorm0, fnorm_prev;
+  PetscBool     unchanged_before;
+  M2dSetHistory hist;
+  M2dCondensed *cond;    /* condensed path (the SNES unknown is nu, condensed.h), or NULL */
+  M2dIterative *iter;    /* iterative path (each step's solve, iterative.h), or NULL */
+  Vec           cu;      /* condensed path: C u(nu) */
+  Vec           all;     /* the mask on every rank (the held-bodies check) */
+  VecScatter    toall;
+  PetscInt      step;    /* active-set steps taken */
+} M2dActiveSet;
+
+/* activeset.c */
+PetscErrorCode ActiveSetUpdateMask(M2dActiveSet *as);
+PetscErrorCode ActiveSetFunction(SNES snes, Vec z, Vec F, void *ctx);
+PetscErrorCode ActiveSetJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx);
+PetscErrorCode ActiveSetChooseSet(M2dActiveSet *as, MPI_Comm comm);
+/* activeset_paths.c */
+PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info);
+PetscErrorCode ActiveSetCondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *nu, Mat *J);
+PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as);
+PetscErrorCode ActiveSetSetupVI(SNES snes, M2dActiveSet *as, Vec z);
+#endif
