@@ -40,11 +40,12 @@ typedef struct {
   PetscReal *w;      /* weight: int N_j da (mortar) or a_j (NTS): pressure x w = force */
 } M2dContactRows;
 
-/* candidate pairs by bounding boxes (enlarged by reach), facing normals, then
- * the overlap of each pair; segments with a gap beyond +-reach are dropped */
+/* The mortar segments of surfaces nm and m (every rank holds both whole:
+ * surface.h): candidate pairs by bounding boxes (enlarged by reach), facing
+ * normals, then the overlap of each pair; segments with a gap beyond +-reach
+ * are dropped. *S is the caller's (SegmentSetDestroy). Not collective. */
 PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dSegmentSet *S);
 PetscErrorCode SegmentSetDestroy(M2dSegmentSet *S);
-/* D (2x2, non-mortar edge nodes i,j) and M (2x2, i and mortar edge nodes k) of one segment */
 /* multiplier basis: standard (lambda interpolated by N, seed eq. 10) or dual
  * (biorthogonal psi_1 = 2 N_1 - N_2, psi_2 = 2 N_2 - N_1: int psi_i N_j = delta_ij int N_j,
  * so D is diagonal on fully covered edges and the nodal contact conditions decouple) */
@@ -52,7 +53,12 @@ typedef enum {
   M2D_MORTAR_STANDARD,
   M2D_MORTAR_DUAL
 } M2dMortarBasis;
+/* D (2x2, non-mortar edge nodes i,j) and M (2x2, i and mortar edge nodes k)
+ * of one segment, 2-point Gauss (exact for straight edges). Not collective. */
 void           MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMortarBasis basis, PetscReal D[4], PetscReal M[4]);
+/* The contact rows of the segments S (one per non-mortar node the mortar
+ * surface covers), or of node-to-segment projection within reach (NTS); the
+ * same on every rank; *R is the caller's (ContactRowsDestroy). Not collective. */
 PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R);
 PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R);
 PetscErrorCode ContactRowsDestroy(M2dContactRows *R);

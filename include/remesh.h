@@ -83,6 +83,7 @@ void M2dQuadQualityCompute(const MshMesh *m, M2dQuadQuality *q);
  * sizes: keep them alive and unchanged until M2dRemeshFieldDestroy. Returns nonzero
  * if out of memory or prev has no quads. */
 typedef struct M2dRemeshField M2dRemeshField;
+/* Create (*f owned by the caller) and destroy such a field. Not collective. */
 int  M2dRemeshFieldCreate(const MshMesh *prev, const double *hnode, const double *hcell, double hmin, double hmax, M2dRemeshField **f);
 void M2dRemeshFieldDestroy(M2dRemeshField **f);
 /* Size at (x, y) from the quads of physical surface phys (-1: any quad); a point
