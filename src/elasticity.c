@@ -101,7 +101,7 @@ void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, Pet
   }
 }
 
-static void Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
+void Q4Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
 {
   eps[0] = eps[1] = eps[2] = 0;
   for (int a = 0; a < 4; a++) {
@@ -119,14 +119,14 @@ void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri,
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) {
       PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
-      Strain(dN, ue, eps);
+      Q4Strain(dN, ue, eps);
       for (int r = 0; r < 3; r++) sig[r] += w * (Dr[3 * r] * eps[0] + Dr[3 * r + 1] * eps[1] + Dr[3 * r + 2] * eps[2]);
       area += w;
     }
   for (int r = 0; r < 3; r++) sig[r] /= area;
   if (sri) { /* the lambda part from the centre strain, as in the stiffness */
     Q4Shape(xy, 0, 0, N, dN);
-    Strain(dN, ue, eps);
+    Q4Strain(dN, ue, eps);
     sig[0] += lam * (eps[0] + eps[1]);
     sig[1] += lam * (eps[0] + eps[1]);
   }

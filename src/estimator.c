@@ -63,16 +63,6 @@ static void BodyMats(const M2dScene *s, BodyMat bm[])
   }
 }
 
-static void StrainAt(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
-{
-  eps[0] = eps[1] = eps[2] = 0;
-  for (int a = 0; a < 4; a++) {
-    eps[0] += dN[2 * a] * ue[2 * a];
-    eps[1] += dN[2 * a + 1] * ue[2 * a + 1];
-    eps[2] += dN[2 * a + 1] * ue[2 * a] + dN[2 * a] * ue[2 * a + 1];
-  }
-}
-
 static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
 {
   PetscReal N[4], dN[8];
@@ -86,7 +76,7 @@ static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
     cd->ue[2 * a + 1] = PetscRealPart(x->ua[off + 1]);
   }
   Q4Shape(cd->xy, 0, 0, N, dN);
-  StrainAt(dN, cd->ue, cd->epsc);
+  Q4Strain(dN, cd->ue, cd->epsc);
   PetscFunctionReturn(0);
 }
 
@@ -96,7 +86,7 @@ static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
 static PetscReal StressAt(const CellData *cd, const BodyMat *bm, PetscBool sri, PetscReal xi, PetscReal et, PetscReal N[4], PetscReal sig[3])
 {
   PetscReal dN[8], eps[3], det = Q4Shape(cd->xy, xi, et, N, dN);
-  StrainAt(dN, cd->ue, eps);
+  Q4Strain(dN, cd->ue, eps);
   for (int r = 0; r < 3; r++) sig[r] = bm->D[3 * r] * eps[0] + bm->D[3 * r + 1] * eps[1] + bm->D[3 * r + 2] * eps[2];
   if (sri) {
     PetscReal dv = bm->lam * (cd->epsc[0] + cd->epsc[1] - eps[0] - eps[1]);
