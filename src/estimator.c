@@ -20,11 +20,10 @@ typedef struct {
 } BodyMat;
 
 typedef struct {
-  const M2dMesh     *m;
-  const M2dScene    *s;
-  PetscSection       lsec, cs;
-  const PetscScalar *ca, *ua;
-  BodyMat            bm[M2D_MAX_BODIES];
+  const M2dMesh  *m;
+  const M2dScene *s;
+  M2dMeshArrays   ar; /* coordinates, u's local copy */
+  BodyMat         bm[M2D_MAX_BODIES];
 } Ctx;
 
 typedef struct {
@@ -68,12 +67,12 @@ static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
   PetscReal N[4], dN[8];
 
   PetscFunctionBeginUser;
-  MeshCellCoordinates(x->m, x->ca, x->cs, c, cd->xy);
+  MeshCellCoordinates(x->m, x->ar.ca, x->ar.cs, c, cd->xy);
   for (int a = 0; a < 4; a++) {
     PetscInt off;
-    PetscCall(PetscSectionGetOffset(x->lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
-    cd->ue[2 * a]     = PetscRealPart(x->ua[off]);
-    cd->ue[2 * a + 1] = PetscRealPart(x->ua[off + 1]);
+    PetscCall(PetscSectionGetOffset(x->ar.lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
+    cd->ue[2 * a]     = PetscRealPart(x->ar.ua[off]);
+    cd->ue[2 * a + 1] = PetscRealPart(x->ar.ua[off + 1]);
   }
   Q4Shape(cd->xy, 0, 0, N, dN);
   Q4Strain(dN, cd->ue, cd->epsc);
@@ -96,34 +95,14 @@ static PetscReal StressAt(const CellData *cd, const BodyMat *bm, PetscBool sri, 
   return det;
 }
 
-static PetscErrorCode CtxOpen(const M2dMesh *m, const M2dScene *s, Vec u, Vec *ul, Ctx *x)
+static PetscErrorCode CtxOpen(const M2dMesh *m, const M2dScene *s, Vec u, Ctx *x)
 {
-  Vec cl;
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(x, sizeof(*x)));
   x->m = m;
   x->s = s;
   BodyMats(s, x->bm);
-  PetscCall(DMGetLocalSection(m->dm, &x->lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &x->cs));
-  PetscCall(VecGetArrayRead(cl, &x->ca));
-  PetscCall(DMGetLocalVector(m->dm, ul));
-  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, *ul));
-  PetscCall(VecGetArrayRead(*ul, &x->ua));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode CtxClose(Vec *ul, Ctx *x)
-{
-  Vec cl;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(x->m->dm, &cl));
-  PetscCall(VecRestoreArrayRead(cl, &x->ca));
-  PetscCall(VecRestoreArrayRead(*ul, &x->ua));
-  PetscCall(DMRestoreLocalVector(x->m->dm, ul));
+  PetscCall(MeshArraysOpen(m, u, &x->ar));
   PetscFunctionReturn(0);
 }
 
@@ -453,7 +432,6 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)m->dm);
   Ctx       x;
-  Vec       ul;
   DM        dmr;
   PetscReal *sv, loc[3] = {0, 0, 0}, vol = 0, emax = 0; /* loc: volume, contact, energy */
   PetscBool *has;
@@ -465,7 +443,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   PetscCheck(!ct || ct->pressure || ct->R.n == 0, comm, PETSC_ERR_ORDER, "M2dEstimateError: call ContactResults first");
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscCall(PetscMemzero(e, sizeof(*e)));
-  PetscCall(CtxOpen(m, s, u, &ul, &x));
+  PetscCall(CtxOpen(m, s, u, &x));
   PetscCall(CreateRecoveryDM(m, &dmr));
   PetscCall(PetscMalloc2(3 * nv + 1, &sv, nv + 1, &has));
   if (ct) PetscCall(SurfCreate(m, ct, &sf));
@@ -498,7 +476,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   e->estimate_rel = e->energy_norm > 0 ? e->estimate / e->energy_norm : 0;
   PetscCall(PetscFree2(sv, has));
   PetscCall(DMDestroy(&dmr));
-  PetscCall(CtxClose(&ul, &x));
+  PetscCall(MeshArraysClose(&x.ar));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -531,12 +509,11 @@ static void ExactStress(const M2dScene *s, const BodyMat *bm, PetscReal px, Pets
 PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm)
 {
   Ctx       x;
-  Vec       ul;
   PetscReal loc[2] = {0, 0};
 
   PetscFunctionBeginUser;
   PetscCheck(s->exact == M2D_EXACT_MMS || s->exact == M2D_EXACT_UNIFORM, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option -exact: the true energy error needs -exact mms or uniform");
-  PetscCall(CtxOpen(m, s, u, &ul, &x));
+  PetscCall(CtxOpen(m, s, u, &x));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     CellData cd;
     PetscInt b = m->cellbody[c - m->cStart];
@@ -556,7 +533,7 @@ PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, P
         loc[1] += w * Quad(x.bm[b].C, ex);
       }
   }
-  PetscCall(CtxClose(&ul, &x));
+  PetscCall(MeshArraysClose(&x.ar));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   *err  = PetscSqrtReal(loc[0]);
   *norm = PetscSqrtReal(loc[1]);
