@@ -13,6 +13,9 @@
 void M2dMaterialMatrix(PetscReal E, PetscReal nu, M2dPlane plane, PetscReal D[9]);
 /* shape function values and x,y-derivatives at (xi, eta); returns det J */
 PetscReal Q4Shape(const PetscReal xy[8], PetscReal xi, PetscReal eta, PetscReal N[4], PetscReal dN[8]);
+/* strain [exx, eyy, gxy] from the x,y-derivatives dN (Q4Shape) and the nodal
+ * displacements ue [u0x u0y u1x ...] */
+void Q4Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3]);
 /* element stiffness (8x8 row major, dofs [u0x u0y u1x ...]), 2x2 Gauss; with
  * sri the part lam m m^T of D (m = [1 1 0]) is integrated at the centre only */
 void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, PetscReal lam, PetscReal Ke[64]);

@@ -65,4 +65,19 @@ PetscErrorCode MeshRigidBodyModes(const M2dMesh *m, PetscBool per_body, MatNullS
 /* Not collective. Cell c's corner coordinates, counter-clockwise, into xy[8]
  * (a: the local coordinate array, csec: the coordinate section). */
 void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *coords, PetscSection csec, PetscInt c, PetscReal xy[8]);
+
+/* Read access to the local arrays a loop over cells or vertices needs: the
+ * coordinates (section cs, array ca), the dof section lsec and, when opened
+ * with a displacement, its local copy with the ghost values (ul, array ua). */
+typedef struct {
+  DM                 dm;
+  PetscSection       lsec, cs;
+  Vec                cl, ul;
+  const PetscScalar *ca, *ua;
+} M2dMeshArrays;
+/* Opens *a on m; u (global, may be NULL: no ua) is scattered to ul, which makes
+ * the call collective. Every open is closed by MeshArraysClose. */
+PetscErrorCode MeshArraysOpen(const M2dMesh *m, Vec u, M2dMeshArrays *a);
+/* Not collective. Gives back what MeshArraysOpen took. */
+PetscErrorCode MeshArraysClose(M2dMeshArrays *a);
 #endif

@@ -90,56 +90,61 @@ PetscErrorCode ActiveSetCondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec 
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode IterativePCApply(PC pc, Vec b, Vec y)
+/* the step's linear solve, a shell PC (context: the active set) behind
+ * KSPPREONLY: the condensed path's dense LU of its Jacobian, factored at set-up,
+ * or the iterative path's solve (set up by ActiveSetJacobian) */
+static PetscErrorCode StepPCSetUp(PC pc)
 {
-  M2dIterative *it;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &it));
-  PetscCall(M2dIterativeSolve(it, b, y));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode DensePCSetUp(PC pc)
-{
-  M2dCondensed *cs;
+  M2dActiveSet *as;
   Mat           P;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(PCGetOperators(pc, NULL, &P));
-  PetscCall(CondensedJacobianFactor(cs, P));
+  PetscCall(PCShellGetContext(pc, &as));
+  if (as->cond) {
+    PetscCall(PCGetOperators(pc, NULL, &P));
+    PetscCall(CondensedJacobianFactor(as->cond, P));
+  }
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode DensePCApply(PC pc, Vec b, Vec y)
+static PetscErrorCode StepPCApply(PC pc, Vec b, Vec y)
 {
-  M2dCondensed *cs;
+  M2dActiveSet *as;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &cs));
-  PetscCall(CondensedJacobianSolve(cs, b, y));
+  PetscCall(PCShellGetContext(pc, &as));
+  if (as->cond) PetscCall(CondensedJacobianSolve(as->cond, b, y));
+  else PetscCall(M2dIterativeSolve(as->iter, b, y));
+  PetscFunctionReturn(0);
+}
+
+/* the SNES's KSP: the step PC alone, `name` saying what it does (-snes_view) */
+static PetscErrorCode SetStepPC(SNES snes, M2dActiveSet *as, const char *name)
+{
+  KSP ksp;
+  PC  pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, as));
+  PetscCall(PCShellSetSetUp(pc, StepPCSetUp));
+  PetscCall(PCShellSetApply(pc, StepPCApply));
+  PetscCall(PCShellSetName(pc, name));
   PetscFunctionReturn(0);
 }
 
 /* condensed path: factor once; the SNES unknown is nu, its dense Jacobian solved by LAPACK on every rank */
 PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info)
 {
-  KSP              ksp;
-  PC               pc;
   M2dCondensedInfo ci;
 
   PetscFunctionBeginUser;
   PetscCheck(as->kkt->aij && as->kkt->gamma > 0, PetscObjectComm((PetscObject)snes), PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
   PetscCall(CondensedCreateFromKKT(as->kkt, &as->pb->s, &as->cond));
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PCShellSetContext(pc, as->cond));
-  PetscCall(PCShellSetSetUp(pc, DensePCSetUp));
-  PetscCall(PCShellSetApply(pc, DensePCApply));
-  PetscCall(PCShellSetName(pc, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
+  PetscCall(SetStepPC(snes, as, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
   PetscCall(CondensedGetInfo(as->cond, &ci));
   info->factor_time        = ci.factor_time;
   info->factor_flops       = ci.flops_sum;
@@ -148,22 +153,13 @@ PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSet
   PetscFunctionReturn(0);
 }
 
-/* iterative path: each step's KKT solve by M2dIterativeSolve (a PCSHELL
- * behind KSPPREONLY), set up by ActiveSetJacobian for the step's set */
+/* iterative path: each step's KKT solve by M2dIterativeSolve (the step PC),
+ * set up by ActiveSetJacobian for the step's set */
 PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as)
 {
-  KSP ksp;
-  PC  pc;
-
   PetscFunctionBeginUser;
   PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PCShellSetContext(pc, as->iter));
-  PetscCall(PCShellSetApply(pc, IterativePCApply));
-  PetscCall(PCShellSetName(pc, "multipliers eliminated, CG + AMG in u (iterative.h)"));
+  PetscCall(SetStepPC(snes, as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }
 

@@ -29,36 +29,32 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2
 
 PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active)
 {
-  Vec                gw, all_l, all_g, all_a;
+  Vec                gw, from[3], all[3]; /* multipliers, weighted gaps, active flags (NULL: all) */
   VecScatter         sc;
-  const PetscScalar *la, *ga, *aa;
+  const PetscScalar *a[3];
 
   PetscFunctionBeginUser;
   /* weighted gap g~ = r - C u (r carries g~0 and the Dirichlet part) */
   PetscCall(VecDuplicate(kkt->r, &gw));
   PetscCall(MatMult(kkt->C, u, gw));
   PetscCall(VecAYPX(gw, -1.0, kkt->r));
-  PetscCall(VecScatterCreateToAll(lam, &sc, &all_l));
-  PetscCall(VecDuplicate(all_l, &all_g));
-  PetscCall(VecScatterBegin(sc, lam, all_l, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, lam, all_l, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterBegin(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, gw, all_g, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecDuplicate(all_l, &all_a));
-  if (active) {
-    PetscCall(VecScatterBegin(sc, active, all_a, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(sc, active, all_a, INSERT_VALUES, SCATTER_FORWARD));
-  } else PetscCall(VecSet(all_a, 1.0));
+  from[0] = lam, from[1] = gw, from[2] = active;
+  PetscCall(VecScatterCreateToAll(lam, &sc, &all[0]));
+  for (int k = 0; k < 3; k++) { /* every rank gets every row */
+    if (k) PetscCall(VecDuplicate(all[0], &all[k]));
+    if (from[k]) {
+      PetscCall(VecScatterBegin(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
+    } else PetscCall(VecSet(all[k], 1.0));
+    PetscCall(VecGetArrayRead(all[k], &a[k]));
+  }
   PetscCall(PetscFree3(c->pressure, c->gap, c->active));
   PetscCall(PetscMalloc3(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap, c->R.n + 1, &c->active));
-  PetscCall(VecGetArrayRead(all_l, &la));
-  PetscCall(VecGetArrayRead(all_g, &ga));
-  PetscCall(VecGetArrayRead(all_a, &aa));
   c->force[0] = c->force[1] = c->force_n = 0;
   for (PetscInt j = 0; j < c->R.n; j++) {
-    c->pressure[j] = PetscRealPart(la[j]);
-    c->gap[j]      = PetscRealPart(ga[j]) / c->R.w[j];
-    c->active[j]   = PetscRealPart(aa[j]);
+    c->pressure[j] = PetscRealPart(a[0][j]);
+    c->gap[j]      = PetscRealPart(a[1][j]) / c->R.w[j];
+    c->active[j]   = PetscRealPart(a[2][j]);
     c->force_n += c->pressure[j] * c->R.w[j];
   }
   /* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
@@ -75,13 +71,11 @@ PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, 
         else hi = mid - 1;
       }
     }
-  PetscCall(VecRestoreArrayRead(all_l, &la));
-  PetscCall(VecRestoreArrayRead(all_g, &ga));
-  PetscCall(VecRestoreArrayRead(all_a, &aa));
-  PetscCall(VecDestroy(&all_a));
+  for (int k = 0; k < 3; k++) {
+    PetscCall(VecRestoreArrayRead(all[k], &a[k]));
+    PetscCall(VecDestroy(&all[k]));
+  }
   PetscCall(VecScatterDestroy(&sc));
-  PetscCall(VecDestroy(&all_l));
-  PetscCall(VecDestroy(&all_g));
   PetscCall(VecDestroy(&gw));
   PetscFunctionReturn(0);
 }

@@ -101,7 +101,7 @@ void Q4Stiffness(const PetscReal xy[8], const PetscReal D[9], PetscBool sri, Pet
   }
 }
 
-static void Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
+void Q4Strain(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
 {
   eps[0] = eps[1] = eps[2] = 0;
   for (int a = 0; a < 4; a++) {
@@ -119,14 +119,14 @@ void Q4AverageStress(const PetscReal xy[8], const PetscReal D[9], PetscBool sri,
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) {
       PetscReal w = Q4Shape(xy, g2[i], g2[j], N, dN);
-      Strain(dN, ue, eps);
+      Q4Strain(dN, ue, eps);
       for (int r = 0; r < 3; r++) sig[r] += w * (Dr[3 * r] * eps[0] + Dr[3 * r + 1] * eps[1] + Dr[3 * r + 2] * eps[2]);
       area += w;
     }
   for (int r = 0; r < 3; r++) sig[r] /= area;
   if (sri) { /* the lambda part from the centre strain, as in the stiffness */
     Q4Shape(xy, 0, 0, N, dN);
-    Strain(dN, ue, eps);
+    Q4Strain(dN, ue, eps);
     sig[0] += lam * (eps[0] + eps[1]);
     sig[1] += lam * (eps[0] + eps[1]);
   }
@@ -177,7 +177,7 @@ static PetscErrorCode CellDofs(const M2dMesh *m, PetscSection lsec, PetscInt c, 
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const PetscScalar *ca, PetscSection cs, PetscSection lsec, PetscScalar *fl)
+static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const M2dMeshArrays *ar, PetscScalar *fl)
 {
   PetscFunctionBeginUser;
   for (PetscInt l = 0; l < s->nload; l++) {
@@ -201,16 +201,16 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const Pe
       PetscCall(DMPlexGetCone(m->dm, e, &cone));
       PetscCheck(nsupp >= 1 && ncone == 2, PETSC_COMM_SELF, PETSC_ERR_PLIB, "edge %" PetscInt_FMT " without cell", e);
       c = supp[0];
-      PetscCall(PetscSectionGetOffset(cs, cone[0], &offa));
-      PetscCall(PetscSectionGetOffset(cs, cone[1], &offb));
-      xa[0] = PetscRealPart(ca[offa]);
-      xa[1] = PetscRealPart(ca[offa + 1]);
-      xb[0] = PetscRealPart(ca[offb]);
-      xb[1] = PetscRealPart(ca[offb + 1]);
+      PetscCall(PetscSectionGetOffset(ar->cs, cone[0], &offa));
+      PetscCall(PetscSectionGetOffset(ar->cs, cone[1], &offb));
+      xa[0] = PetscRealPart(ar->ca[offa]);
+      xa[1] = PetscRealPart(ar->ca[offa + 1]);
+      xb[0] = PetscRealPart(ar->ca[offb]);
+      xb[1] = PetscRealPart(ar->ca[offb + 1]);
       len    = PetscSqrtReal((xb[0] - xa[0]) * (xb[0] - xa[0]) + (xb[1] - xa[1]) * (xb[1] - xa[1]));
       nrm[0] = (xb[1] - xa[1]) / len;
       nrm[1] = -(xb[0] - xa[0]) / len;
-      MeshCellCoordinates(m, ca, cs, c, xy);
+      MeshCellCoordinates(m, ar->ca, ar->cs, c, xy);
       for (int k = 0; k < 4; k++) {
         cx += 0.25 * xy[2 * k];
         cy += 0.25 * xy[2 * k + 1];
@@ -219,8 +219,8 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const Pe
         nrm[0] = -nrm[0];
         nrm[1] = -nrm[1];
       }
-      PetscCall(PetscSectionGetOffset(lsec, cone[0], &la));
-      PetscCall(PetscSectionGetOffset(lsec, cone[1], &lb));
+      PetscCall(PetscSectionGetOffset(ar->lsec, cone[0], &la));
+      PetscCall(PetscSectionGetOffset(ar->lsec, cone[1], &lb));
       for (int g = 0; g < 2; g++) { /* 2-point Gauss: exact for linear pressure */
         PetscReal Na = 0.5 * (1 - g2[g]), Nb = 0.5 * (1 + g2[g]);
         PetscReal x = Na * xa[0] + Nb * xb[0], y = Na * xa[1] + Nb * xb[1];
@@ -246,18 +246,14 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const Pe
 
 PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R)
 {
-  PetscInt           n;
-  const PetscInt    *pts;
-  PetscSection       cs;
-  Vec                cl;
-  const PetscScalar *ca;
-  IS                 is;
-  PetscReal          sum = 0;
+  PetscInt        n;
+  const PetscInt *pts;
+  M2dMeshArrays   ar;
+  IS              is;
+  PetscReal       sum = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   PetscCall(MeshGetGroupIS(m, l->group, "-pressure", &is));
   PetscCall(ISGetLocalSize(is, &n));
   PetscCall(ISGetIndices(is, &pts));
@@ -267,47 +263,43 @@ PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *
     PetscReal       xa[2], xb[2], len;
     if (pts[i] < m->eStart || pts[i] >= m->eEnd || m->edgeghost[pts[i] - m->eStart]) continue;
     PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
-    PetscCall(PetscSectionGetOffset(cs, cone[0], &oa));
-    PetscCall(PetscSectionGetOffset(cs, cone[1], &ob));
+    PetscCall(PetscSectionGetOffset(ar.cs, cone[0], &oa));
+    PetscCall(PetscSectionGetOffset(ar.cs, cone[1], &ob));
     for (int d = 0; d < 2; d++) {
-      xa[d] = PetscRealPart(ca[oa + d]);
-      xb[d] = PetscRealPart(ca[ob + d]);
+      xa[d] = PetscRealPart(ar.ca[oa + d]);
+      xb[d] = PetscRealPart(ar.ca[ob + d]);
     }
     len = PetscSqrtReal(PetscSqr(xb[0] - xa[0]) + PetscSqr(xb[1] - xa[1]));
     sum += len * (l->p + l->grad[0] * 0.5 * (xa[0] + xb[0]) + l->grad[1] * 0.5 * (xa[1] + xb[1]));
   }
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   PetscCallMPI(MPI_Allreduce(&sum, R, 1, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, Mat K, Vec f)
 {
-  PetscSection       lsec, cs;
-  Vec                cl, fl;
-  const PetscScalar *ca;
-  PetscScalar       *fa;
-  PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
+  M2dMeshArrays ar;
+  Vec           fl;
+  PetscScalar  *fa;
+  PetscReal     D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
   BodyMaterials(s, D, lam);
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   PetscCall(DMGetLocalVector(m->dm, &fl));
   PetscCall(VecZeroEntries(fl));
-  PetscCall(VecGetArrayRead(cl, &ca));
   PetscCall(VecGetArray(fl, &fa));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     PetscReal   xy[8], Ke[64];
     PetscInt    idx[8];
     PetscInt    b = m->cellbody[c - m->cStart];
-    MeshCellCoordinates(m, ca, cs, c, xy);
+    MeshCellCoordinates(m, ar.ca, ar.cs, c, xy);
     Q4Stiffness(xy, D[b], s->sri, lam[b], Ke);
     M2dFramesRotateElement(fr, m, &m->cellverts[4 * (c - m->cStart)], Ke);
-    PetscCall(CellDofs(m, lsec, c, idx));
+    PetscCall(CellDofs(m, ar.lsec, c, idx));
     PetscCall(MatSetValuesLocal(K, 8, idx, 8, idx, Ke, ADD_VALUES));
     if (s->exact == M2D_EXACT_MMS) { /* body force, 3x3 Gauss */
       for (int i = 0; i < 3; i++)
@@ -326,10 +318,10 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2d
         }
     }
   }
-  PetscCall(AddEdgeLoads(m, s, ca, cs, lsec, fa));
+  PetscCall(AddEdgeLoads(m, s, &ar, fa));
   PetscCall(VecRestoreArray(fl, &fa));
   PetscCall(M2dFramesRotateLocal(fr, m, fl, PETSC_FALSE)); /* f~ = T^T f, each rank's share */
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
   PetscCall(VecZeroEntries(f));
@@ -340,15 +332,12 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2d
 
 PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt *n, PetscInt **rows, PetscScalar **vals)
 {
-  PetscSection       gsec, cs;
-  Vec                cl;
-  const PetscScalar *ca;
-  PetscInt           nv = m->vEnd - m->vStart, cnt = 0;
+  PetscSection  gsec;
+  M2dMeshArrays ar;
+  PetscInt      nv = m->vEnd - m->vStart, cnt = 0;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
   for (PetscInt v = 0; v < nv; v++) {
     PetscInt goff;
     PetscCall(PetscSectionGetOffset(gsec, v + m->vStart, &goff));
@@ -356,7 +345,7 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, cons
   }
   PetscCall(PetscMalloc1(cnt + 1, rows));
   PetscCall(PetscMalloc1(cnt + 1, vals));
-  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   cnt = 0;
   for (PetscInt v = 0; v < nv; v++) {
     PetscInt  goff, coff;
@@ -366,8 +355,8 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, cons
     ue[0] = fr->value[2 * v];
     ue[1] = fr->value[2 * v + 1];
     if (s->exact == M2D_EXACT_MMS) { /* the exact field, in the vertex's frame */
-      PetscCall(PetscSectionGetOffset(cs, v + m->vStart, &coff));
-      M2dMMSDisplacement(s, PetscRealPart(ca[coff]), PetscRealPart(ca[coff + 1]), ue);
+      PetscCall(PetscSectionGetOffset(ar.cs, v + m->vStart, &coff));
+      M2dMMSDisplacement(s, PetscRealPart(ar.ca[coff]), PetscRealPart(ar.ca[coff + 1]), ue);
       if (M2dFramesAt(fr, m, v + m->vStart, nrm)) ue[0] = nrm[0] * ue[0] + nrm[1] * ue[1];
     }
     for (int d = 0; d < 2; d++)
@@ -376,7 +365,7 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, cons
         (*vals)[cnt++] = ue[d];
       }
   }
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   *n = cnt;
   PetscFunctionReturn(0);
 }
@@ -405,26 +394,18 @@ PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const P
 
 PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *stress)
 {
-  PetscSection       lsec, cs;
-  Vec                cl, ul;
-  const PetscScalar *ca, *ua;
-  PetscReal          D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
+  M2dMeshArrays ar;
+  PetscReal     D[M2D_MAX_BODIES][9], lam[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
   BodyMaterials(s, D, lam);
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(DMGetLocalVector(m->dm, &ul));
-  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, ul));
-  PetscCall(VecGetArrayRead(cl, &ca));
-  PetscCall(VecGetArrayRead(ul, &ua));
+  PetscCall(MeshArraysOpen(m, u, &ar));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     PetscReal  xy[8], ue[8], sig[3], sz, *out = &stress[5 * (c - m->cStart)];
     PetscInt   idx[8], b = m->cellbody[c - m->cStart];
-    MeshCellCoordinates(m, ca, cs, c, xy);
-    PetscCall(CellDofs(m, lsec, c, idx));
-    for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ua[idx[k]]);
+    MeshCellCoordinates(m, ar.ca, ar.cs, c, xy);
+    PetscCall(CellDofs(m, ar.lsec, c, idx));
+    for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ar.ua[idx[k]]);
     Q4AverageStress(xy, D[b], s->sri, lam[b], ue, sig);
     sz     = s->plane == M2D_PLANE_STRAIN ? s->body[b].nu * (sig[0] + sig[1]) : 0.0;
     out[0] = sig[0];
@@ -433,32 +414,22 @@ PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, 
     out[3] = sig[2];
     out[4] = PetscSqrtReal(0.5 * ((sig[0] - sig[1]) * (sig[0] - sig[1]) + (sig[1] - sz) * (sig[1] - sz) + (sz - sig[0]) * (sz - sig[0])) + 3 * sig[2] * sig[2]);
   }
-  PetscCall(VecRestoreArrayRead(ul, &ua));
-  PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(DMRestoreLocalVector(m->dm, &ul));
+  PetscCall(MeshArraysClose(&ar));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ElasticityMMSError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax)
 {
-  PetscSection       lsec, cs;
-  Vec                cl, ul;
-  const PetscScalar *ca, *ua;
-  PetscReal          loc[2] = {0, 0}, h = 0;
+  M2dMeshArrays ar;
+  PetscReal     loc[2] = {0, 0}, h = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(DMGetLocalVector(m->dm, &ul));
-  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, ul));
-  PetscCall(VecGetArrayRead(cl, &ca));
-  PetscCall(VecGetArrayRead(ul, &ua));
+  PetscCall(MeshArraysOpen(m, u, &ar));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     PetscReal xy[8];
     PetscInt  idx[8];
-    MeshCellCoordinates(m, ca, cs, c, xy);
-    PetscCall(CellDofs(m, lsec, c, idx));
+    MeshCellCoordinates(m, ar.ca, ar.cs, c, xy);
+    PetscCall(CellDofs(m, ar.lsec, c, idx));
     for (int a = 0; a < 4; a++)
       for (int b = a + 1; b < 4; b++) h = PetscMax(h, PetscSqrtReal(PetscSqr(xy[2 * a] - xy[2 * b]) + PetscSqr(xy[2 * a + 1] - xy[2 * b + 1])));
     for (int i = 0; i < 3; i++)
@@ -468,17 +439,15 @@ PetscErrorCode ElasticityMMSError(const M2dMesh *m, const M2dScene *s, Vec u, Pe
         for (int a = 0; a < 4; a++) {
           x += N[a] * xy[2 * a];
           y += N[a] * xy[2 * a + 1];
-          uh[0] += N[a] * PetscRealPart(ua[idx[2 * a]]);
-          uh[1] += N[a] * PetscRealPart(ua[idx[2 * a + 1]]);
+          uh[0] += N[a] * PetscRealPart(ar.ua[idx[2 * a]]);
+          uh[1] += N[a] * PetscRealPart(ar.ua[idx[2 * a + 1]]);
         }
         M2dMMSDisplacement(s, x, y, ue);
         loc[0] += w * (PetscSqr(uh[0] - ue[0]) + PetscSqr(uh[1] - ue[1]));
         loc[1] += w * (PetscSqr(ue[0]) + PetscSqr(ue[1]));
       }
   }
-  PetscCall(VecRestoreArrayRead(ul, &ua));
-  PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCall(DMRestoreLocalVector(m->dm, &ul));
+  PetscCall(MeshArraysClose(&ar));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   PetscCallMPI(MPI_Allreduce(&h, hmax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)m->dm)));
   *err  = PetscSqrtReal(loc[0]);

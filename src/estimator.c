@@ -20,11 +20,10 @@ typedef struct {
 } BodyMat;
 
 typedef struct {
-  const M2dMesh     *m;
-  const M2dScene    *s;
-  PetscSection       lsec, cs;
-  const PetscScalar *ca, *ua;
-  BodyMat            bm[M2D_MAX_BODIES];
+  const M2dMesh  *m;
+  const M2dScene *s;
+  M2dMeshArrays   ar; /* coordinates, u's local copy */
+  BodyMat         bm[M2D_MAX_BODIES];
 } Ctx;
 
 typedef struct {
@@ -63,30 +62,20 @@ static void BodyMats(const M2dScene *s, BodyMat bm[])
   }
 }
 
-static void StrainAt(const PetscReal dN[8], const PetscReal ue[8], PetscReal eps[3])
-{
-  eps[0] = eps[1] = eps[2] = 0;
-  for (int a = 0; a < 4; a++) {
-    eps[0] += dN[2 * a] * ue[2 * a];
-    eps[1] += dN[2 * a + 1] * ue[2 * a + 1];
-    eps[2] += dN[2 * a + 1] * ue[2 * a] + dN[2 * a] * ue[2 * a + 1];
-  }
-}
-
 static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
 {
   PetscReal N[4], dN[8];
 
   PetscFunctionBeginUser;
-  MeshCellCoordinates(x->m, x->ca, x->cs, c, cd->xy);
+  MeshCellCoordinates(x->m, x->ar.ca, x->ar.cs, c, cd->xy);
   for (int a = 0; a < 4; a++) {
     PetscInt off;
-    PetscCall(PetscSectionGetOffset(x->lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
-    cd->ue[2 * a]     = PetscRealPart(x->ua[off]);
-    cd->ue[2 * a + 1] = PetscRealPart(x->ua[off + 1]);
+    PetscCall(PetscSectionGetOffset(x->ar.lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
+    cd->ue[2 * a]     = PetscRealPart(x->ar.ua[off]);
+    cd->ue[2 * a + 1] = PetscRealPart(x->ar.ua[off + 1]);
   }
   Q4Shape(cd->xy, 0, 0, N, dN);
-  StrainAt(dN, cd->ue, cd->epsc);
+  Q4Strain(dN, cd->ue, cd->epsc);
   PetscFunctionReturn(0);
 }
 
@@ -96,7 +85,7 @@ static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
 static PetscReal StressAt(const CellData *cd, const BodyMat *bm, PetscBool sri, PetscReal xi, PetscReal et, PetscReal N[4], PetscReal sig[3])
 {
   PetscReal dN[8], eps[3], det = Q4Shape(cd->xy, xi, et, N, dN);
-  StrainAt(dN, cd->ue, eps);
+  Q4Strain(dN, cd->ue, eps);
   for (int r = 0; r < 3; r++) sig[r] = bm->D[3 * r] * eps[0] + bm->D[3 * r + 1] * eps[1] + bm->D[3 * r + 2] * eps[2];
   if (sri) {
     PetscReal dv = bm->lam * (cd->epsc[0] + cd->epsc[1] - eps[0] - eps[1]);
@@ -106,34 +95,14 @@ static PetscReal StressAt(const CellData *cd, const BodyMat *bm, PetscBool sri, 
   return det;
 }
 
-static PetscErrorCode CtxOpen(const M2dMesh *m, const M2dScene *s, Vec u, Vec *ul, Ctx *x)
+static PetscErrorCode CtxOpen(const M2dMesh *m, const M2dScene *s, Vec u, Ctx *x)
 {
-  Vec cl;
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(x, sizeof(*x)));
   x->m = m;
   x->s = s;
   BodyMats(s, x->bm);
-  PetscCall(DMGetLocalSection(m->dm, &x->lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &x->cs));
-  PetscCall(VecGetArrayRead(cl, &x->ca));
-  PetscCall(DMGetLocalVector(m->dm, ul));
-  PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, *ul));
-  PetscCall(VecGetArrayRead(*ul, &x->ua));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode CtxClose(Vec *ul, Ctx *x)
-{
-  Vec cl;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(x->m->dm, &cl));
-  PetscCall(VecRestoreArrayRead(cl, &x->ca));
-  PetscCall(VecRestoreArrayRead(*ul, &x->ua));
-  PetscCall(DMRestoreLocalVector(x->m->dm, ul));
+  PetscCall(MeshArraysOpen(m, u, &x->ar));
   PetscFunctionReturn(0);
 }
 
@@ -463,7 +432,6 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)m->dm);
   Ctx       x;
-  Vec       ul;
   DM        dmr;
   PetscReal *sv, loc[3] = {0, 0, 0}, vol = 0, emax = 0; /* loc: volume, contact, energy */
   PetscBool *has;
@@ -475,7 +443,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   PetscCheck(!ct || ct->pressure || ct->R.n == 0, comm, PETSC_ERR_ORDER, "M2dEstimateError: call ContactResults first");
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscCall(PetscMemzero(e, sizeof(*e)));
-  PetscCall(CtxOpen(m, s, u, &ul, &x));
+  PetscCall(CtxOpen(m, s, u, &x));
   PetscCall(CreateRecoveryDM(m, &dmr));
   PetscCall(PetscMalloc2(3 * nv + 1, &sv, nv + 1, &has));
   if (ct) PetscCall(SurfCreate(m, ct, &sf));
@@ -508,7 +476,7 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   e->estimate_rel = e->energy_norm > 0 ? e->estimate / e->energy_norm : 0;
   PetscCall(PetscFree2(sv, has));
   PetscCall(DMDestroy(&dmr));
-  PetscCall(CtxClose(&ul, &x));
+  PetscCall(MeshArraysClose(&x.ar));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ESTIMATE], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -541,12 +509,11 @@ static void ExactStress(const M2dScene *s, const BodyMat *bm, PetscReal px, Pets
 PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm)
 {
   Ctx       x;
-  Vec       ul;
   PetscReal loc[2] = {0, 0};
 
   PetscFunctionBeginUser;
   PetscCheck(s->exact == M2D_EXACT_MMS || s->exact == M2D_EXACT_UNIFORM, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option -exact: the true energy error needs -exact mms or uniform");
-  PetscCall(CtxOpen(m, s, u, &ul, &x));
+  PetscCall(CtxOpen(m, s, u, &x));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     CellData cd;
     PetscInt b = m->cellbody[c - m->cStart];
@@ -566,7 +533,7 @@ PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, P
         loc[1] += w * Quad(x.bm[b].C, ex);
       }
   }
-  PetscCall(CtxClose(&ul, &x));
+  PetscCall(MeshArraysClose(&x.ar));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
   *err  = PetscSqrtReal(loc[0]);
   *norm = PetscSqrtReal(loc[1]);

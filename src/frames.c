@@ -4,17 +4,13 @@
 /* the points of support k on this rank: a vertex, or both vertices of an edge */
 static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, PetscInt *nv, PetscInt **verts, PetscReal **dirs)
 {
-  PetscSection       cs;
-  Vec                cl;
-  const PetscScalar *ca;
-  IS                 is;
-  const PetscInt    *pts;
-  PetscInt           np;
+  M2dMeshArrays   ar;
+  IS              is;
+  const PetscInt *pts;
+  PetscInt        np;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
   PetscCall(ISGetLocalSize(is, &np));
   PetscCall(ISGetIndices(is, &pts));
@@ -33,13 +29,13 @@ static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, 
     if (e < m->eStart || e >= m->eEnd) continue;
     PetscCall(DMPlexGetCone(m->dm, e, &cone));
     PetscCall(DMPlexGetSupport(m->dm, e, &supp));
-    for (int j = 0; j < 2; j++) PetscCall(PetscSectionGetOffset(cs, cone[j], &off[j]));
-    n[0] = PetscRealPart(ca[off[1] + 1] - ca[off[0] + 1]);
-    n[1] = -PetscRealPart(ca[off[1]] - ca[off[0]]);
+    for (int j = 0; j < 2; j++) PetscCall(PetscSectionGetOffset(ar.cs, cone[j], &off[j]));
+    n[0] = PetscRealPart(ar.ca[off[1] + 1] - ar.ca[off[0] + 1]);
+    n[1] = -PetscRealPart(ar.ca[off[1]] - ar.ca[off[0]]);
     len  = PetscSqrtReal(n[0] * n[0] + n[1] * n[1]);
-    MeshCellCoordinates(m, ca, cs, supp[0], xy);
+    MeshCellCoordinates(m, ar.ca, ar.cs, supp[0], xy);
     for (int j = 0; j < 4; j++) cx += 0.25 * xy[2 * j], cy += 0.25 * xy[2 * j + 1];
-    if ((0.5 * PetscRealPart(ca[off[0]] + ca[off[1]]) - cx) * n[0] + (0.5 * PetscRealPart(ca[off[0] + 1] + ca[off[1] + 1]) - cy) * n[1] < 0) len = -len; /* outward */
+    if ((0.5 * PetscRealPart(ar.ca[off[0]] + ar.ca[off[1]]) - cx) * n[0] + (0.5 * PetscRealPart(ar.ca[off[0] + 1] + ar.ca[off[1] + 1]) - cy) * n[1] < 0) len = -len; /* outward */
     /* an edge owned elsewhere counts on its owner only: the sums below add the ranks */
     if (m->edgeghost[e - m->eStart]) n[0] = n[1] = 0, len = 1;
     for (int j = 0; j < 2; j++) {
@@ -51,7 +47,7 @@ static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, 
   }
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   PetscFunctionReturn(0);
 }
 

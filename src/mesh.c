@@ -406,3 +406,31 @@ void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *a, PetscSection cs
     xy[2 * k + 1] = PetscRealPart(a[off + 1]);
   }
 }
+
+PetscErrorCode MeshArraysOpen(const M2dMesh *m, Vec u, M2dMeshArrays *a)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(a, sizeof(*a)));
+  a->dm = m->dm;
+  PetscCall(DMGetLocalSection(m->dm, &a->lsec));
+  PetscCall(DMGetCoordinatesLocal(m->dm, &a->cl));
+  PetscCall(DMGetCoordinateSection(m->dm, &a->cs));
+  PetscCall(VecGetArrayRead(a->cl, &a->ca));
+  if (u) {
+    PetscCall(DMGetLocalVector(m->dm, &a->ul));
+    PetscCall(DMGlobalToLocal(m->dm, u, INSERT_VALUES, a->ul));
+    PetscCall(VecGetArrayRead(a->ul, &a->ua));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshArraysClose(M2dMeshArrays *a)
+{
+  PetscFunctionBeginUser;
+  if (a->ul) {
+    PetscCall(VecRestoreArrayRead(a->ul, &a->ua));
+    PetscCall(DMRestoreLocalVector(a->dm, &a->ul));
+  }
+  PetscCall(VecRestoreArrayRead(a->cl, &a->ca));
+  PetscFunctionReturn(0);
+}

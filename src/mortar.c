@@ -127,6 +127,24 @@ typedef struct {
   PetscReal *val;
 } RowAcc;
 
+/* the rows of one surface pair while they are built, one per non-mortar node:
+ * its accumulator, gap constant and weight, and whether it gets a multiplier */
+typedef struct {
+  PetscInt   nnode;
+  RowAcc    *acc;
+  PetscReal *g0, *w;
+  PetscBool *keep;
+} RowSet;
+
+static PetscErrorCode RowsStart(PetscInt nnode, RowSet *rs)
+{
+  PetscFunctionBeginUser;
+  rs->nnode = nnode;
+  PetscCall(PetscCalloc1(nnode + 1, &rs->acc));
+  PetscCall(PetscCalloc3(nnode + 1, &rs->g0, nnode + 1, &rs->w, nnode + 1, &rs->keep));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
 {
   PetscFunctionBeginUser;
@@ -151,41 +169,42 @@ static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
   PetscFunctionReturn(0);
 }
 
-/* add coefficient c times the normal n at node i of surface s. The row's
- * coefficients sum to zero (sum_k D_jk = sum_l M_jl, both the integral of the
- * multiplier's basis function over the segments; NTS: a_s (1 - N_1 - N_2)),
+/* add to row `row` coefficient c times the normal n at node i of surface s.
+ * The row's coefficients sum to zero (sum_k D_jk = sum_l M_jl, both the
+ * integral of the multiplier's basis function over the segments; NTS: a_s (1 - N_1 - N_2)),
  * so the gap may be taken relative to any point: relative to the row's own
  * node `ref` it is computed from differences of nearby coordinates, exact for
  * coincident surfaces instead of a difference of large sums. */
-static PetscErrorCode RowAddNode(RowAcc *r, PetscReal *g0, const M2dSurface *s, PetscInt i, PetscReal c, const PetscReal n[2], const PetscReal ref[2])
+static PetscErrorCode RowAddNode(RowSet *rs, PetscInt row, const M2dSurface *s, PetscInt i, PetscReal c, const PetscReal n[2], const PetscReal ref[2])
 {
   PetscFunctionBeginUser;
-  PetscCall(RowAdd(r, s->gdof[i], c * n[0]));
-  PetscCall(RowAdd(r, s->gdof[i] + 1, c * n[1]));
-  *g0 += c * (n[0] * (s->x[2 * i] - ref[0]) + n[1] * (s->x[2 * i + 1] - ref[1]));
+  PetscCall(RowAdd(&rs->acc[row], s->gdof[i], c * n[0]));
+  PetscCall(RowAdd(&rs->acc[row], s->gdof[i] + 1, c * n[1]));
+  rs->g0[row] += c * (n[0] * (s->x[2 * i] - ref[0]) + n[1] * (s->x[2 * i + 1] - ref[1]));
   PetscFunctionReturn(0);
 }
 
-/* compress the accumulators of the kept nodes into R */
-static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g0, const PetscReal *w, const PetscBool *keep, M2dContactRows *R)
+/* compress the accumulators of the kept nodes into R; frees rs */
+static PetscErrorCode RowsFinish(RowSet *rs, M2dContactRows *R)
 {
+  RowAcc  *acc = rs->acc;
   PetscInt nnz = 0, k = 0;
 
   PetscFunctionBeginUser;
   R->n = 0;
-  for (PetscInt i = 0; i < nnode; i++)
-    if (keep[i]) {
+  for (PetscInt i = 0; i < rs->nnode; i++)
+    if (rs->keep[i]) {
       R->n++;
       nnz += acc[i].n;
     }
   PetscCall(PetscMalloc4(R->n + 1, &R->node, R->n + 1, &R->ptr, R->n + 1, &R->g0, R->n + 1, &R->w));
   PetscCall(PetscMalloc2(nnz + 1, &R->col, nnz + 1, &R->val));
   R->ptr[0] = 0;
-  for (PetscInt i = 0; i < nnode; i++) {
-    if (keep[i]) {
+  for (PetscInt i = 0; i < rs->nnode; i++) {
+    if (rs->keep[i]) {
       R->node[k] = i;
-      R->g0[k]   = g0[i];
-      R->w[k]    = w[i];
+      R->g0[k]   = rs->g0[i];
+      R->w[k]    = rs->w[i];
       for (PetscInt j = 0; j < acc[i].n; j++) {
         R->col[R->ptr[k] + j] = acc[i].col[j];
         R->val[R->ptr[k] + j] = acc[i].val[j];
@@ -195,18 +214,17 @@ static PetscErrorCode RowsFinish(PetscInt nnode, RowAcc *acc, const PetscReal *g
     }
     PetscCall(PetscFree2(acc[i].col, acc[i].val));
   }
+  PetscCall(PetscFree(rs->acc));
+  PetscCall(PetscFree3(rs->g0, rs->w, rs->keep));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R)
 {
-  RowAcc    *acc;
-  PetscReal *g0, *w;
-  PetscBool *keep;
+  RowSet rs;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1(nm->nnode + 1, &acc));
-  PetscCall(PetscCalloc3(nm->nnode + 1, &g0, nm->nnode + 1, &w, nm->nnode + 1, &keep));
+  PetscCall(RowsStart(nm->nnode, &rs));
   for (PetscInt k = 0; k < S->nseg; k++) {
     const M2dSegment   *s = &S->seg[k];
     const PetscReal *n = &m->normal[2 * s->m_edge];
@@ -215,33 +233,28 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
     MortarSegmentDM(nm, s, basis, D, M);
     for (int i = 0; i < 2; i++) {
       for (int j = 0; j < 2; j++) {
-        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], nm, en[j], D[2 * i + j], n, &nm->x[2 * en[i]]));
-        PetscCall(RowAddNode(&acc[en[i]], &g0[en[i]], m, em[j], -M[2 * i + j], n, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], nm, en[j], D[2 * i + j], n, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], m, em[j], -M[2 * i + j], n, &nm->x[2 * en[i]]));
       }
-      w[en[i]] += D[2 * i] + D[2 * i + 1];
+      rs.w[en[i]] += D[2 * i] + D[2 * i + 1];
     }
   }
   /* a node gets a multiplier if the mortar surface covers a non-negligible part of its support */
   for (PetscInt i = 0; i < nm->nnode; i++) {
     PetscReal support = 0;
     for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) support += 0.5 * nm->len[nm->n2e[k]];
-    keep[i] = (PetscBool)(w[i] > 1e-10 * support);
+    rs.keep[i] = (PetscBool)(rs.w[i] > 1e-10 * support);
   }
-  PetscCall(RowsFinish(nm->nnode, acc, g0, w, keep, R));
-  PetscCall(PetscFree(acc));
-  PetscCall(PetscFree3(g0, w, keep));
+  PetscCall(RowsFinish(&rs, R));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R)
 {
-  RowAcc    *acc;
-  PetscReal *g0, *w;
-  PetscBool *keep;
+  RowSet rs;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1(nm->nnode + 1, &acc));
-  PetscCall(PetscCalloc3(nm->nnode + 1, &g0, nm->nnode + 1, &w, nm->nnode + 1, &keep));
+  PetscCall(RowsStart(nm->nnode, &rs));
   for (PetscInt i = 0; i < nm->nnode; i++) {
     const PetscReal *p = &nm->x[2 * i];
     PetscReal        nn[2], best = PETSC_MAX_REAL, bxi = 0, a = 0;
@@ -266,16 +279,14 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     {
       const PetscReal *n  = &m->normal[2 * bf];
       const PetscInt  *em = &m->edge[2 * bf];
-      PetscCall(RowAddNode(&acc[i], &g0[i], nm, i, a, n, p));
-      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[0], -a * 0.5 * (1 - bxi), n, p));
-      PetscCall(RowAddNode(&acc[i], &g0[i], m, em[1], -a * 0.5 * (1 + bxi), n, p));
+      PetscCall(RowAddNode(&rs, i, nm, i, a, n, p));
+      PetscCall(RowAddNode(&rs, i, m, em[0], -a * 0.5 * (1 - bxi), n, p));
+      PetscCall(RowAddNode(&rs, i, m, em[1], -a * 0.5 * (1 + bxi), n, p));
     }
-    w[i]    = a;
-    keep[i] = PETSC_TRUE;
+    rs.w[i]    = a;
+    rs.keep[i] = PETSC_TRUE;
   }
-  PetscCall(RowsFinish(nm->nnode, acc, g0, w, keep, R));
-  PetscCall(PetscFree(acc));
-  PetscCall(PetscFree3(g0, w, keep));
+  PetscCall(RowsFinish(&rs, R));
   PetscFunctionReturn(0);
 }
 

@@ -57,18 +57,56 @@ static PetscBool ParseFinite(const char *text, PetscReal *v)
   return PETSC_TRUE;
 }
 
-PetscErrorCode M2dOptionsReal(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscReal def, PetscReal *value, PetscBool *set)
+static PetscBool IsFinite(const char *text)
+{
+  PetscReal v;
+  return ParseFinite(text, &v);
+}
+
+/* base-10 integer that fits a PetscInt, nothing else */
+static PetscBool IsInteger(const char *text)
+{
+  char     *end;
+  long long l;
+
+  if (!text[0]) return PETSC_FALSE;
+  l = strtoll(text, &end, 10);
+  return (PetscBool)(!*end && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT);
+}
+
+static PetscBool IsBool(const char *text)
+{
+  const char *const words[] = {"", "true", "yes", "on", "1", "false", "no", "off", "0"};
+
+  for (size_t i = 0; i < sizeof(words) / sizeof(words[0]); i++)
+    if (!strcasecmp(text, words[i])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* Raw, and the value, when given, checked by valid(): *ok FALSE, and the error
+ * "option NAME: 'VALUE' is not <what>" kept, when it fails; PETSc is then not
+ * asked (its own error would be raised inside PetscOptionsBegin/End) */
+static PetscErrorCode RawChecked(PetscOptionItems *PetscOptionsObject, const char *name, PetscBool (*valid)(const char *), const char *what, PetscBool *ok)
 {
   char      full[256], buf[VALUE_LEN];
   PetscBool given;
-  PetscReal v;
 
   PetscFunctionBeginUser;
   PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
+  *ok = (PetscBool)(!given || valid(buf));
+  if (!*ok) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", full, buf, what));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dOptionsReal(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscReal def, PetscReal *value, PetscBool *set)
+{
+  PetscBool ok;
+
+  PetscFunctionBeginUser;
   if (set) *set = PETSC_FALSE;
   *value = def;
-  if (given && !ParseFinite(buf, &v)) PetscCall(M2dOptionsDefer("option %s: '%s' is not a finite number", full, buf));
-  else PetscCall(PetscOptionsReal(name, help, "", def, value, set));
+  PetscCall(RawChecked(PetscOptionsObject, name, IsFinite, "a finite number", &ok));
+  if (ok) PetscCall(PetscOptionsReal(name, help, "", def, value, set));
   PetscFunctionReturn(0);
 }
 
@@ -101,12 +139,11 @@ PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const ch
   PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
   if (given) { /* check every entry first: PETSc's own message names neither the option nor the entry */
     for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save), k++) {
-      PetscReal v;
       if (k == max) {
         PetscCall(M2dOptionsDefer("option %s: at most %" PetscInt_FMT " values", full, max));
         PetscFunctionReturn(0);
       }
-      if (!ParseFinite(tok, &v)) {
+      if (!IsFinite(tok)) {
         PetscCall(M2dOptionsDefer("option %s: '%s' is not a finite number", full, tok));
         PetscFunctionReturn(0);
       }
@@ -122,47 +159,26 @@ PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const ch
   PetscFunctionReturn(0);
 }
 
-/* base-10 integer that fits a PetscInt, nothing else */
-static PetscBool ParseInt(const char *text, PetscInt *v)
-{
-  char     *end;
-  long long l;
-
-  if (!text[0]) return PETSC_FALSE;
-  l = strtoll(text, &end, 10);
-  if (*end || l > PETSC_MAX_INT || l < PETSC_MIN_INT) return PETSC_FALSE;
-  *v = (PetscInt)l;
-  return PETSC_TRUE;
-}
-
 PetscErrorCode M2dOptionsInt(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt def, PetscInt *value, PetscBool *set)
 {
-  char      full[256], buf[VALUE_LEN];
-  PetscBool given;
-  PetscInt  v;
+  PetscBool ok;
 
   PetscFunctionBeginUser;
-  PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
   if (set) *set = PETSC_FALSE;
   *value = def;
-  if (given && !ParseInt(buf, &v)) PetscCall(M2dOptionsDefer("option %s: '%s' is not an integer", full, buf));
-  else PetscCall(PetscOptionsInt(name, help, "", def, value, set));
+  PetscCall(RawChecked(PetscOptionsObject, name, IsInteger, "an integer", &ok));
+  if (ok) PetscCall(PetscOptionsInt(name, help, "", def, value, set));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode M2dOptionsBool(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscBool def, PetscBool *value)
 {
-  const char *const yes[] = {"", "true", "yes", "on", "1"}, *const no[] = {"false", "no", "off", "0"};
-  char              full[256], buf[VALUE_LEN];
-  PetscBool         given, ok = PETSC_FALSE;
+  PetscBool ok;
 
   PetscFunctionBeginUser;
-  PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
   *value = def;
-  for (size_t i = 0; given && i < sizeof(yes) / sizeof(yes[0]); i++) ok = (PetscBool)(ok || !strcasecmp(buf, yes[i]));
-  for (size_t i = 0; given && i < sizeof(no) / sizeof(no[0]); i++) ok = (PetscBool)(ok || !strcasecmp(buf, no[i]));
-  if (given && !ok) PetscCall(M2dOptionsDefer("option %s: '%s' is not true or false", full, buf));
-  else PetscCall(PetscOptionsBool(name, help, "", def, value, NULL));
+  PetscCall(RawChecked(PetscOptionsObject, name, IsBool, "true or false", &ok));
+  if (ok) PetscCall(PetscOptionsBool(name, help, "", def, value, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -39,29 +39,25 @@ static PetscErrorCode GatherVec(Vec v, VecScatter sc, Vec seq, PetscInt nv, Pets
 /* vertex coordinates (in the dof layout, so that the fields' scatter serves them) and point fields */
 static PetscErrorCode GatherPoints(const M2dMesh *m, const M2dFieldSet *fs, Gathered *g, PetscMPIInt rank)
 {
-  PetscSection       lsec, cs;
-  Vec                xl, xg, seq, cl;
-  VecScatter         sc;
-  const PetscScalar *ca;
-  PetscScalar       *xa;
+  M2dMeshArrays ar;
+  Vec           xl, xg, seq;
+  VecScatter    sc;
+  PetscScalar  *xa;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   PetscCall(DMGetLocalVector(m->dm, &xl));
   PetscCall(DMGetGlobalVector(m->dm, &xg));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(VecGetArrayRead(cl, &ca));
   PetscCall(VecGetArray(xl, &xa));
   for (PetscInt v = m->vStart; v < m->vEnd; v++) {
     PetscInt off, coff;
-    PetscCall(PetscSectionGetOffset(lsec, v, &off));
-    PetscCall(PetscSectionGetOffset(cs, v, &coff));
-    xa[off]     = ca[coff];
-    xa[off + 1] = ca[coff + 1];
+    PetscCall(PetscSectionGetOffset(ar.lsec, v, &off));
+    PetscCall(PetscSectionGetOffset(ar.cs, v, &coff));
+    xa[off]     = ar.ca[coff];
+    xa[off + 1] = ar.ca[coff + 1];
   }
   PetscCall(VecRestoreArray(xl, &xa));
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   PetscCall(DMLocalToGlobal(m->dm, xl, INSERT_VALUES, xg));
   PetscCall(VecScatterCreateToZero(xg, &sc, &seq));
   PetscCall(VecScatterBegin(sc, xg, seq, INSERT_VALUES, SCATTER_FORWARD));

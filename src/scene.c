@@ -28,6 +28,8 @@
   #define M2D_GEO_DIR "meshes"
 #endif
 
+#define ENTRY_LEN 256 /* one comma-separated entry of -dirichlet, -pressure, -traction */
+
 /* split "a:b:c" in place into at most max fields; max + 1 when there are more */
 static int Split(char *s, char **f, int max)
 {
@@ -54,19 +56,29 @@ static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *
   PetscFunctionReturn(0);
 }
 
+/* entry GROUP:A[:B...] of option opt split into fields f of buf (at most max)
+ * and GROUP copied to group; *nf = 0, and the error kept (options.h), when the
+ * number of fields is not one of `counts` (bit n: n fields) */
+static PetscErrorCode SplitEntry(const char *opt, const char *form, const char *entry, char buf[ENTRY_LEN], char **f, int max, unsigned counts, char group[M2D_NAME_LEN], int *nf)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(buf, entry, ENTRY_LEN));
+  *nf = Split(buf, f, max);
+  if (!(counts >> *nf & 1u)) {
+    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", opt, entry, form));
+    *nf = 0;
+  } else PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
 {
-  char *f[4], buf[256];
+  char *f[4], buf[ENTRY_LEN];
   int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
-  nf = Split(buf, f, 3);
-  if (nf != 2 && nf != 3) {
-    PetscCall(M2dOptionsDefer("option -dirichlet: '%s' is not GROUP:x|y|xy|n|t[:VALUE]", entry));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(PetscStrncpy(bc->group, f[0], sizeof(bc->group)));
+  PetscCall(SplitEntry("-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", entry, buf, f, 3, 1u << 2 | 1u << 3, bc->group, &nf));
+  if (!nf) PetscFunctionReturn(0);
   bc->frame = M2D_BC_XY;
   if (!strcmp(f[1], "x")) bc->comp[0] = PETSC_TRUE;
   else if (!strcmp(f[1], "y")) bc->comp[1] = PETSC_TRUE;
@@ -84,17 +96,12 @@ static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
 
 static PetscErrorCode ParsePressure(const char *entry, M2dEdgeLoad *l)
 {
-  char *f[5], buf[256];
+  char *f[5], buf[ENTRY_LEN];
   int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
-  nf = Split(buf, f, 4);
-  if (nf != 2 && nf != 4) {
-    PetscCall(M2dOptionsDefer("option -pressure: '%s' is not GROUP:P or GROUP:P:GX:GY", entry));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+  PetscCall(SplitEntry("-pressure", "GROUP:P or GROUP:P:GX:GY", entry, buf, f, 4, 1u << 2 | 1u << 4, l->group, &nf));
+  if (!nf) PetscFunctionReturn(0);
   l->is_pressure = PETSC_TRUE;
   PetscCall(ParseReal("-pressure", entry, f[1], &l->p));
   if (nf == 4) {
@@ -106,15 +113,12 @@ static PetscErrorCode ParsePressure(const char *entry, M2dEdgeLoad *l)
 
 static PetscErrorCode ParseTraction(const char *entry, M2dEdgeLoad *l)
 {
-  char *f[4], buf[256];
+  char *f[4], buf[ENTRY_LEN];
+  int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, sizeof(buf)));
-  if (Split(buf, f, 3) != 3) {
-    PetscCall(M2dOptionsDefer("option -traction: '%s' is not GROUP:TX:TY", entry));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(PetscStrncpy(l->group, f[0], sizeof(l->group)));
+  PetscCall(SplitEntry("-traction", "GROUP:TX:TY", entry, buf, f, 3, 1u << 3, l->group, &nf));
+  if (!nf) PetscFunctionReturn(0);
   PetscCall(ParseReal("-traction", entry, f[1], &l->t[0]));
   PetscCall(ParseReal("-traction", entry, f[2], &l->t[1]));
   PetscFunctionReturn(0);

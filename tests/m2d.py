@@ -266,6 +266,21 @@ def check(cond, msg):
         raise SystemExit(1)
 
 
+def refusal_problems(rc, lines, culprits=()):
+    """What is wrong with a run that had to refuse its input: it must exit 1
+    with exactly one stderr line "mortar2d: error: ..." that names every
+    culprit. lines: the non-empty stderr lines. Returns (the line, or the lines
+    joined, for the report; the problems, [] when none)."""
+    line = lines[0] if len(lines) == 1 else " | ".join(lines)[:600]
+    problems = []
+    if rc != 1:
+        problems.append("exit code %s (want 1)" % rc)
+    if len(lines) != 1 or not lines[0].startswith("mortar2d: error: "):
+        problems.append("stderr is not one 'mortar2d: error: ' line")
+    problems += ["the line does not name %r" % c for c in culprits if c not in line]
+    return line, problems
+
+
 class Tally:
     """Checks that all run and are counted; finish() prints the count and exits
     1 if any failed."""

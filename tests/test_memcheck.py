@@ -31,7 +31,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, SRC, command, launch, mesh, opts, workdir
+from m2d import EXE, SRC, Tally, command, launch, mesh, opts, workdir
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--error-paths", action="store_true")
@@ -42,17 +42,8 @@ PREFIX = "mortar2d: error: "
 W = workdir("memcheck")
 SUPP = os.path.join(SRC, "tests", "valgrind.supp")
 TIMEOUT = 900
-passed = failed = 0
-
-
-def report(ok, what, detail=""):
-    global passed, failed
-    print(("ok   " if ok else "FAIL ") + what + (": " + detail if detail else ""))
-    sys.stdout.flush()
-    if ok:
-        passed += 1
-    else:
-        failed += 1
+T = Tally()
+report = T.check
 
 
 # hwloc's x86 CPUID backend does not work under valgrind and says so on
@@ -241,12 +232,10 @@ def malloc_case(name, args, ranks=1):
 def main():
     if shutil.which("valgrind") is None:
         report(False, "valgrind is installed", "valgrind not found on PATH (tools/setup.sh installs it)")
-        print("%d passed, %d failed" % (passed, failed))
-        return 1
+        T.finish()
     if not os.path.exists(EXE):
         report(False, "executable %s exists" % EXE, "build first, or set M2D_EXE")
-        print("%d passed, %d failed" % (passed, failed))
-        return 1
+        T.finish()
     if not os.path.exists(SUPP):
         report(False, "suppression file %s exists" % SUPP)
     t0 = time.time()
@@ -260,8 +249,7 @@ def main():
     for extra in ([], ["-kkt_path", "full"], ["-contact_unilateral", "0"], ["-mesh_partitioner", "petsc"], ["-kkt_path", "iterative"]):
         malloc_case("Hertz level 1, 2 ranks %s" % " ".join(extra), ["-options_file", opts("hertz"), "-mesh", mesh("hertz_1")] + extra, ranks=2)
     print("total %.0f s" % (time.time() - t0))
-    print("%d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
+    T.finish()
 
 
 if __name__ == "__main__":

@@ -25,7 +25,7 @@ import shutil
 import subprocess
 
 import numpy as np
-from m2d import check, mesh, opts, run, solve, sorted_fields, workdir
+from m2d import check, mesh, opts, refusal_problems, run, solve, sorted_fields, workdir
 
 os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
 W = workdir("mesh_input")
@@ -43,9 +43,7 @@ def write(name, text):
 def refused(name, args, culprits, ranks=1):
     rc, out, err = run(args + ["-output_dir", os.path.join(W, "out_" + name)], ranks=ranks, check=False, timeout=120)
     lines = [l for l in err.splitlines() if l.strip()]
-    line = lines[0] if lines else ""
-    ok = rc == 1 and len(lines) == 1 and line.startswith("mortar2d: error: ") and all(c in line for c in culprits)
-    check(ok, "%s [%d rank%s] refused naming %s: %s" % (name, ranks, "s" if ranks > 1 else "", culprits, " | ".join(lines)[:400]))
+    check(not refusal_problems(rc, lines, culprits)[1], "%s [%d rank%s] refused naming %s: %s" % (name, ranks, "s" if ranks > 1 else "", culprits, " | ".join(lines)[:400]))
 
 
 # ---------------------------------------------------------------- msh 4.1 ASCII edits

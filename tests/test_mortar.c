@@ -5,6 +5,7 @@
  *  - non-mortar nodes projecting exactly onto mortar nodes and onto the end of
  *    the mortar surface: no NaN, no lost length (zero-length segments dropped);
  *  - the NTS row of a node. */
+#include "contact.h"
 #include "mortar.h"
 
 #include "check.h"
@@ -48,103 +49,100 @@ static void TwoEdge(PetscReal theta, PetscReal tx, PetscReal ty, M2dSurface *nm,
   SurfaceCreate(3, xm, gm, 2, em, m);
 }
 
+/* segments (reach 0.1) and standard mortar rows of c's surfaces; an
+ * M2dContact holds the pair, its segments and rows as the program's does, and
+ * ContactDestroy frees them */
+static PetscErrorCode MortarPair(M2dContact *c)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MortarBuildSegments(&c->nm, &c->m, 0.1, &c->seg));
+  PetscCall(MortarRows(&c->nm, &c->m, &c->seg, M2D_MORTAR_STANDARD, &c->R));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
-  M2dSurface     nm, m;
-  M2dSegmentSet  S;
-  M2dContactRows R, Rt;
+  M2dContact a = {0};
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  TwoEdge(0, 0, 0, &nm, &m);
-  PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
-  CHECK(S.nseg == 2, "two segments (%d)", (int)S.nseg);
-  PetscCall(MortarRows(&nm, &m, &S, M2D_MORTAR_STANDARD, &R));
+  TwoEdge(0, 0, 0, &a.nm, &a.m);
+  PetscCall(MortarPair(&a));
+  CHECK(a.seg.nseg == 2, "two segments (%d)", (int)a.seg.nseg);
   {
-    PetscInt  ja = RowOfNode(&R, 0), jb = RowOfNode(&R, 1);
+    PetscInt  ja = RowOfNode(&a.R, 0), jb = RowOfNode(&a.R, 1);
     /* rows hold D n and -M n with n = (0, 1): the y-dofs carry the numbers */
-    PetscReal D[4]  = {RowVal(&R, ja, 101), RowVal(&R, ja, 103), RowVal(&R, jb, 101), RowVal(&R, jb, 103)};
-    PetscReal Ma[3] = {-RowVal(&R, ja, 1), -RowVal(&R, ja, 3), -RowVal(&R, ja, 5)};
-    PetscReal Mb[3] = {-RowVal(&R, jb, 1), -RowVal(&R, jb, 3), -RowVal(&R, jb, 5)};
+    PetscReal D[4]  = {RowVal(&a.R, ja, 101), RowVal(&a.R, ja, 103), RowVal(&a.R, jb, 101), RowVal(&a.R, jb, 103)};
+    PetscReal Ma[3] = {-RowVal(&a.R, ja, 1), -RowVal(&a.R, ja, 3), -RowVal(&a.R, ja, 5)};
+    PetscReal Mb[3] = {-RowVal(&a.R, jb, 1), -RowVal(&a.R, jb, 3), -RowVal(&a.R, jb, 5)};
     PetscReal eD = PetscAbsReal(D[0] - 1. / 3) + PetscAbsReal(D[1] - 1. / 6) + PetscAbsReal(D[2] - 1. / 6) + PetscAbsReal(D[3] - 1. / 3);
     PetscReal eM = PetscAbsReal(Ma[0] - 1. / 48) + PetscAbsReal(Ma[1] - 18. / 48) + PetscAbsReal(Ma[2] - 5. / 48) + PetscAbsReal(Mb[0] - 5. / 48) + PetscAbsReal(Mb[1] - 18. / 48) + PetscAbsReal(Mb[2] - 1. / 48);
-    CHECK(R.n == 2 && ja >= 0 && jb >= 0, "both non-mortar nodes carry a multiplier");
+    CHECK(a.R.n == 2 && ja >= 0 && jb >= 0, "both non-mortar nodes carry a multiplier");
     CHECK(eD < 1e-15, "D against hand values (error %.1e)", (double)eD);
     CHECK(eM < 1e-15, "M against hand values (error %.1e)", (double)eM);
-    CHECK(RowVal(&R, ja, 100) == 0 && RowVal(&R, ja, 0) == 0, "no tangential entries for a horizontal interface");
-    for (PetscInt j = 0; j < R.n; j++) {
+    CHECK(RowVal(&a.R, ja, 100) == 0 && RowVal(&a.R, ja, 0) == 0, "no tangential entries for a horizontal interface");
+    for (PetscInt j = 0; j < a.R.n; j++) {
       PetscReal sd = 0, sm = 0;
-      for (PetscInt k = R.ptr[j]; k < R.ptr[j + 1]; k++) {
-        if (R.col[k] >= 100) sd += R.val[k];
-        else sm -= R.val[k];
+      for (PetscInt k = a.R.ptr[j]; k < a.R.ptr[j + 1]; k++) {
+        if (a.R.col[k] >= 100) sd += a.R.val[k];
+        else sm -= a.R.val[k];
       }
       CHECK(PetscAbsReal(sd - sm) < 1e-14, "row %d: sum_j D = sum_k M (%.1e)", (int)j, (double)(sd - sm));
-      CHECK(PetscAbsReal(R.w[j] - 0.5) < 1e-15 && PetscAbsReal(R.g0[j]) < 1e-15, "row %d: weight 1/2 and zero initial gap", (int)j);
+      CHECK(PetscAbsReal(a.R.w[j] - 0.5) < 1e-15 && PetscAbsReal(a.R.g0[j]) < 1e-15, "row %d: weight 1/2 and zero initial gap", (int)j);
     }
   }
   { /* translation + rotation: rows rotate with the normal, weights and gaps stay */
-    M2dSurface    nm2, m2;
-    M2dSegmentSet S2;
+    M2dContact b  = {0};
     PetscReal  th = 0.7, err = 0;
-    TwoEdge(th, 3.3, -1.7, &nm2, &m2);
-    PetscCall(MortarBuildSegments(&nm2, &m2, 0.1, &S2));
-    PetscCall(MortarRows(&nm2, &m2, &S2, M2D_MORTAR_STANDARD, &Rt));
-    CHECK(Rt.n == R.n && S2.nseg == S.nseg, "same segments and multipliers after a rigid motion");
-    for (PetscInt j = 0; j < R.n && Rt.n == R.n; j++) {
-      err = PetscMax(err, PetscAbsReal(R.w[j] - Rt.w[j]) + PetscAbsReal(Rt.g0[j]));
-      for (PetscInt k = R.ptr[j]; k < R.ptr[j + 1]; k++) {
-        PetscInt col = R.col[k];
+    TwoEdge(th, 3.3, -1.7, &b.nm, &b.m);
+    PetscCall(MortarPair(&b));
+    CHECK(b.R.n == a.R.n && b.seg.nseg == a.seg.nseg, "same segments and multipliers after a rigid motion");
+    for (PetscInt j = 0; j < a.R.n && b.R.n == a.R.n; j++) {
+      err = PetscMax(err, PetscAbsReal(a.R.w[j] - b.R.w[j]) + PetscAbsReal(b.R.g0[j]));
+      for (PetscInt k = a.R.ptr[j]; k < a.R.ptr[j + 1]; k++) {
+        PetscInt col = a.R.col[k];
         if (col % 2 == 0) continue;
         /* entry on the y-dof times the rotated normal (-sin, cos) */
-        err = PetscMax(err, PetscAbsReal(RowVal(&Rt, j, col - 1) - R.val[k] * -PetscSinReal(th)) + PetscAbsReal(RowVal(&Rt, j, col) - R.val[k] * PetscCosReal(th)));
+        err = PetscMax(err, PetscAbsReal(RowVal(&b.R, j, col - 1) - a.R.val[k] * -PetscSinReal(th)) + PetscAbsReal(RowVal(&b.R, j, col) - a.R.val[k] * PetscCosReal(th)));
       }
     }
     CHECK(err < 1e-14, "rows invariant under translation and rotation (%.1e)", (double)err);
-    PetscCall(ContactRowsDestroy(&Rt));
-    PetscCall(SegmentSetDestroy(&S2));
-    PetscCall(SurfaceDestroy(&nm2));
-    PetscCall(SurfaceDestroy(&m2));
+    PetscCall(ContactDestroy(&b));
   }
-  PetscCall(ContactRowsDestroy(&R));
-  PetscCall(SegmentSetDestroy(&S));
-  PetscCall(SurfaceDestroy(&nm));
-  PetscCall(SurfaceDestroy(&m));
+  PetscCall(ContactDestroy(&a));
 
   { /* coincident nodes and the end of the mortar surface: non-mortar edges
      * (0,0)-(0.5,0)-(1,0)-(1.5,0) (upper body), mortar (0,0)-(0.5,0)-(1,0):
      * nodes project exactly onto mortar nodes, the last one beyond the end */
     const PetscReal xn[8] = {1.5, 0, 1, 0, 0.5, 0, 0, 0}, xm[6] = {0, 0, 0.5, 0, 1, 0};
     const PetscInt  gn[4] = {100, 102, 104, 106}, en[6] = {1, 0, 2, 1, 3, 2}, gm[3] = {0, 2, 4}, em[4] = {1, 0, 2, 1};
+    M2dContact      d   = {0};
     PetscReal       len = 0, sumw = 0;
     PetscBool       finite = PETSC_TRUE;
-    PetscCall(SurfaceCreate(4, xn, gn, 3, en, &nm));
-    PetscCall(SurfaceCreate(3, xm, gm, 2, em, &m));
-    PetscCall(MortarBuildSegments(&nm, &m, 0.1, &S));
-    PetscCall(MortarRows(&nm, &m, &S, M2D_MORTAR_STANDARD, &R));
-    for (PetscInt k = 0; k < S.nseg; k++) {
-      len += 0.5 * (S.seg[k].zeta[1] - S.seg[k].zeta[0]) * nm.len[S.seg[k].nm_edge];
-      finite = (PetscBool)(finite && !PetscIsInfOrNanReal(S.seg[k].zeta[0] + S.seg[k].zeta[1] + S.seg[k].xi[0] + S.seg[k].xi[1]));
+    PetscCall(SurfaceCreate(4, xn, gn, 3, en, &d.nm));
+    PetscCall(SurfaceCreate(3, xm, gm, 2, em, &d.m));
+    PetscCall(MortarPair(&d));
+    for (PetscInt k = 0; k < d.seg.nseg; k++) {
+      len += 0.5 * (d.seg.seg[k].zeta[1] - d.seg.seg[k].zeta[0]) * d.nm.len[d.seg.seg[k].nm_edge];
+      finite = (PetscBool)(finite && !PetscIsInfOrNanReal(d.seg.seg[k].zeta[0] + d.seg.seg[k].zeta[1] + d.seg.seg[k].xi[0] + d.seg.seg[k].xi[1]));
     }
-    for (PetscInt j = 0; j < R.n; j++) {
-      sumw += R.w[j];
-      for (PetscInt k = R.ptr[j]; k < R.ptr[j + 1]; k++) finite = (PetscBool)(finite && !PetscIsInfOrNanReal(R.val[k]));
+    for (PetscInt j = 0; j < d.R.n; j++) {
+      sumw += d.R.w[j];
+      for (PetscInt k = d.R.ptr[j]; k < d.R.ptr[j + 1]; k++) finite = (PetscBool)(finite && !PetscIsInfOrNanReal(d.R.val[k]));
     }
-    CHECK(S.nseg == 2, "coincident nodes: 2 segments, zero-length ones dropped (%d)", (int)S.nseg);
+    CHECK(d.seg.nseg == 2, "coincident nodes: 2 segments, zero-length ones dropped (%d)", (int)d.seg.nseg);
     CHECK(PetscAbsReal(len - 1.0) < 1e-15 && PetscAbsReal(sumw - 1.0) < 1e-15, "covered length 1 kept (segments %.16g, weights %.16g)", (double)len, (double)sumw);
     CHECK(finite, "no NaN or Inf in segments and rows");
-    CHECK(R.n == 3 && RowOfNode(&R, 0) < 0, "the node beyond the mortar surface gets no multiplier (%d multipliers)", (int)R.n);
-    PetscCall(ContactRowsDestroy(&R));
+    CHECK(d.R.n == 3 && RowOfNode(&d.R, 0) < 0, "the node beyond the mortar surface gets no multiplier (%d multipliers)", (int)d.R.n);
     { /* NTS: node (0.5, 0.02) above mortar node (0.5, 0): xi = 1 on edge 0 or -1 on edge 1 */
       M2dContactRows N;
       PetscInt    j;
-      PetscCall(NTSRows(&nm, &m, 0.1, &N));
+      PetscCall(NTSRows(&d.nm, &d.m, 0.1, &N));
       j = RowOfNode(&N, 2);
       CHECK(N.n == 3 && j >= 0, "NTS: 3 multipliers (nodes over the mortar surface)");
       if (j >= 0) CHECK(PetscAbsReal(N.w[j] - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 105) - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 3) + 0.5) < 1e-15, "NTS row: a_s n at the node, -a_s n at the coincident mortar node");
       PetscCall(ContactRowsDestroy(&N));
     }
-    PetscCall(SegmentSetDestroy(&S));
-    PetscCall(SurfaceDestroy(&nm));
-    PetscCall(SurfaceDestroy(&m));
+    PetscCall(ContactDestroy(&d));
   }
   PetscCall(PetscFinalize());
   printf("%d failed\n", failures);

@@ -22,22 +22,14 @@ import re
 import shutil
 import subprocess
 
-from m2d import EXE, SRC, mesh, opts, run, workdir
+from m2d import EXE, SRC, Tally, mesh, opts, refusal_problems, run, workdir
 
 os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
 TIMEOUT = 120
 W = workdir("options")
 OUT = os.path.join(W, "out")
-passed = failed = 0
-
-
-def report(ok, what, detail=""):
-    global passed, failed
-    print(("ok   " if ok else "FAIL ") + what + (": " + detail if detail else ""))
-    if ok:
-        passed += 1
-    else:
-        failed += 1
+T = Tally()
+report = T.check
 
 
 def write(name, text):
@@ -72,13 +64,7 @@ def bad(name, args, culprits, ranklist=(1, 2), env=None, cwd=None):
             report(False, what, "no exit within %d s (hang?)" % TIMEOUT)
             continue
         rc, out, lines = r
-        line = lines[0] if len(lines) == 1 else " | ".join(lines)[:600]
-        problems = []
-        if rc != 1:
-            problems.append("exit code %d (want 1)" % rc)
-        if len(lines) != 1 or not lines[0].startswith("mortar2d: error: "):
-            problems.append("stderr is not one 'mortar2d: error: ' line")
-        problems += ["does not name %r" % c for c in culprits if c not in line]
+        line, problems = refusal_problems(rc, lines, culprits)
         report(not problems, what, ("; ".join(problems) + " -- stderr: " if problems else "") + line)
 
 
@@ -208,5 +194,4 @@ def hertz_a(extra, name):
 report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3,1.5 is R = 1", "a = %s and %s" % (a1, a2))
 report(re.search(r"radii 3\.? and 1\.5, effective radius R = R1 R2/\(R1 \+ R2\) = 1\.?\n", out2) is not None, "the output states the effective radius")
 
-print("%d passed, %d failed" % (passed, failed))
-raise SystemExit(1 if failed else 0)
+T.finish()

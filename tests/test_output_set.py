@@ -38,7 +38,7 @@ import sys
 import time
 
 import numpy as np
-from m2d import EXE, MPIEXEC, SRC, mesh, opts, read_h5, workdir
+from m2d import EXE, MPIEXEC, SRC, Tally, mesh, opts, read_h5, refusal_problems, workdir
 
 os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
@@ -51,17 +51,8 @@ LOADS = {"A": "0.43", "B": "0.5"}
 SIGS = {"INT": signal.SIGINT, "TERM": signal.SIGTERM, "KILL": signal.SIGKILL}
 MSG = re.compile(r"^mortar2d: error: interrupted by SIG(INT|TERM|HUP); (no output written, previous results kept|the output was already complete)$")
 rng = random.Random(20240613)
-passed = failed = 0
-
-
-def report(ok, what, detail=""):
-    global passed, failed
-    print(("ok   " if ok else "FAIL ") + what + (": " + detail if detail else ""))
-    sys.stdout.flush()
-    if ok:
-        passed += 1
-    else:
-        failed += 1
+T = Tally()
+report = T.check
 
 
 def args(d, which, level=2, summary=None):
@@ -452,18 +443,11 @@ for what, extra, culprits in CASES:
     for ranks in ((1, 2) if what.startswith(("-output_dir /proc", "-output_name with a double", "-summary an existing")) else (1,)):
         a = args(D, "B") + extra
         p = subprocess.run(command(a, ranks), cwd=SRC, capture_output=True, text=True, env=ENV, timeout=120)
-        lines = [l for l in p.stderr.splitlines() if l.strip()]
-        problems = []
-        if p.returncode != 1:
-            problems.append("exit code %d" % p.returncode)
-        if len(lines) != 1 or not lines[0].startswith("mortar2d: error: "):
-            problems.append("stderr is not one 'mortar2d: error:' line: %r" % lines[:3])
-        problems += ["the line does not name %r" % c for c in culprits if not lines or c not in lines[0]]
+        line, problems = refusal_problems(p.returncode, [l for l in p.stderr.splitlines() if l.strip()], culprits)
         if snapshot(D) != BEFORE:
             problems.append("D changed")
-        report(not problems, "%s [%d rank%s]" % (what, ranks, "s" if ranks > 1 else ""), "; ".join(problems) or lines[0])
+        report(not problems, "%s [%d rank%s]" % (what, ranks, "s" if ranks > 1 else ""), ("; ".join(problems) + " -- stderr: " if problems else "") + line)
 report(classify(content(D), REFS[1]) == "A" and neighbours() == NB, "after the refused runs D still holds set A and its neighbours")
 report(os.path.islink(lnull) and os.readlink(lnull) == "/dev/null" and os.path.islink(lfifo) and stat.S_ISFIFO(os.lstat(afifo).st_mode)
        and stat.S_ISCHR(os.stat("/dev/null").st_mode), "the FIFO, the links and /dev/null are untouched")
-print("%d passed, %d failed" % (passed, failed))
-raise SystemExit(1 if failed else 0)
+T.finish()

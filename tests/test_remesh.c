@@ -82,6 +82,21 @@ static int Remesh(M2dRemeshInput *in, MshMesh *m, char *err)
   return rc;
 }
 
+static void WriteGeo(const char *path, const char *text)
+{
+  FILE *fp = fopen(path, "w");
+  fputs(text, fp);
+  fclose(fp);
+}
+
+/* a new temporary .geo holding text: geo is a mkstemps template ending in
+ * XXXXXX.geo, filled in with the name; the caller unlinks the file */
+static void NewGeo(char geo[], const char *text)
+{
+  close(mkstemps(geo, 4));
+  WriteGeo(geo, text);
+}
+
 static void TestOwnMesh(void)
 {
   M2dRemeshInput in = {0};
@@ -101,19 +116,15 @@ static void TestOwnMesh(void)
 static void TestParameters(void)
 {
   char           geo[] = "/tmp/m2d_test_remesh_XXXXXX.geo", err[1024];
-  FILE          *fp;
-  int            fd   = mkstemps(geo, 4);
   const char    *names[] = {"nx", "ny"};
   double         values[] = {5, 3};
   M2dRemeshInput in = {0};
   MshMesh        m;
-  fp = fdopen(fd, "w");
-  fprintf(fp, "DefineConstant[ nx = {2, Name \"Parameters/nx\"} ];\nIf (!Exists(ny))\n  ny = 4;\nEndIf\n"
+  NewGeo(geo, "DefineConstant[ nx = {2, Name \"Parameters/nx\"} ];\nIf (!Exists(ny))\n  ny = 4;\nEndIf\n"
               "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0}; Point(4) = {0, 1, 0};\n"
               "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
               "Transfinite Curve{1, 3} = nx + 1; Transfinite Curve{2, 4} = ny + 1; Transfinite Surface{1}; Recombine Surface{1};\n"
               "Physical Surface(\"square\", 7) = {1};\n");
-  fclose(fp);
   in.geo = geo, in.nnumber = 2, in.names = names, in.values = values;
   CHECK(!Remesh(&in, &m, err) && m.nquad == 15, "parameters nx = 5 (DefineConstant) and ny = 3 (If !Exists): %ld quads, expected 15", m.nquad);
   MshFree(&m);
@@ -129,20 +140,15 @@ static void TestParameters(void)
 static void TestErrors(void)
 {
   char           geo[] = "/tmp/m2d_test_remesh_XXXXXX.geo", err[1024];
-  int            fd = mkstemps(geo, 4);
-  FILE          *fp = fdopen(fd, "w");
   M2dRemeshInput in = {0};
   MshMesh        m;
-  fprintf(fp, "Point(1) = {0, 0, 0};\nLine(1) = {1, 2 3};\n");
-  fclose(fp);
+  NewGeo(geo, "Point(1) = {0, 0, 0};\nLine(1) = {1, 2 3};\n");
   in.geo = "/nonexistent/scene.geo";
   CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, in.geo) && !strchr(err, '\n') && m.nquad == 0, "missing .geo: '%s'", err);
   in.geo = geo;
   CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, geo) && strstr(err, "syntax error") && !strchr(err, '\n'), "syntax error: '%s'", err);
-  fp = fopen(geo, "w");
-  fprintf(fp, "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {0, 1, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n"
+  WriteGeo(geo, "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {0, 1, 0};\nLine(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1};\n"
               "Curve Loop(1) = {1, 2, 3}; Plane Surface(1) = {1};\nPhysical Surface(\"tri\", 1) = {1};\n");
-  fclose(fp);
   CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, geo) && strstr(err, "triangle"), "a .geo that makes triangles: '%s'", err);
   unlink(geo);
   in.geo = Path("meshes/patch_uniform.geo");
@@ -216,49 +222,56 @@ static void CheckPatch(const MshMesh *m, const MshMesh *ref, const M2dRemeshStat
   CHECK(!nbad && lines_ok && BodiesSeparate(m), "field, quads %d: nodes inside their body, contact lines on y = 0.5, no node shared by the bodies", quads);
 }
 
+/* in's .geo remeshed with sizes per cell, h[0] in the cells of body `body`
+ * and h[1] in the others: the edges of curve[k] (of the first body, then the
+ * other; those within `reach` of the origin) must have size h[k] to 30% */
+static void CheckSizesPerBody(M2dRemeshInput *in, const char *body, const double h[2], const char *const curve[2], double reach, const char *where, const char *what)
+{
+  double  *hc, range[2][2] = {{1e300, 0}, {1e300, 0}};
+  MshMesh  prev, m;
+  char     err[1024];
+  int      tag;
+  if (Remesh(in, &prev, err)) return;
+  tag = PhysTag(&prev, 2, body);
+  hc  = (double *)malloc((size_t)prev.nquad * sizeof(double));
+  for (long q = 0; q < prev.nquad; q++) hc[q] = h[prev.quadphys[q] == tag ? 0 : 1];
+  in->prev = &prev, in->hcell = hc;
+  if (!Remesh(in, &m, err)) {
+    for (long l = 0; l < m.nline; l++) {
+      const double *a = &m.xy[2 * m.line[2 * l]], *b = &m.xy[2 * m.line[2 * l + 1]];
+      double        len = hypot(b[0] - a[0], b[1] - a[1]), *r = m.linephys[l] == PhysTag(&m, 1, curve[0]) ? range[0] : m.linephys[l] == PhysTag(&m, 1, curve[1]) ? range[1] : NULL;
+      if (r && hypot(a[0], a[1]) < reach) r[0] = fmin(r[0], len), r[1] = fmax(r[1], len);
+    }
+    printf("     edges %s: %s %.4f to %.4f, %s %.4f to %.4f\n", where, curve[0], range[0][0], range[0][1], curve[1], range[1][0], range[1][1]);
+    CHECK(range[0][0] > 0.7 * h[0] && range[0][1] < 1.3 * h[0] && range[1][0] > 0.7 * h[1] && range[1][1] < 1.3 * h[1], "sizes per cell and per body: %s", what);
+    MshFree(&m);
+  }
+  free(hc);
+  MshFree(&prev);
+}
+
 /* the patch with sizes per cell, 0.1 in the lower body and 0.025 in the upper:
  * on y = 0.5, which both bodies' cells touch, each contact surface takes its own
  * body's size */
 static void TestPatchPerBody(const char *geo)
 {
-  double         *h, low[2] = {1e300, 0}, up[2] = {1e300, 0};
-  M2dRemeshInput in = {0};
-  MshMesh        prev, m;
-  char           err[1024];
-  int            lower;
+  const char *const curve[] = {"lower_top", "upper_bottom"};
+  const double      h[]     = {0.1, 0.025};
+  M2dRemeshInput    in      = {0};
   in.geo = geo;
-  if (Remesh(&in, &prev, err)) return;
-  lower = PhysTag(&prev, 2, "lower");
-  h     = (double *)malloc((size_t)prev.nquad * sizeof(double));
-  for (long q = 0; q < prev.nquad; q++) h[q] = prev.quadphys[q] == lower ? 0.1 : 0.025;
-  in.prev = &prev, in.hcell = h;
-  if (!Remesh(&in, &m, err)) {
-    for (long l = 0; l < m.nline; l++) {
-      const double *a = &m.xy[2 * m.line[2 * l]], *b = &m.xy[2 * m.line[2 * l + 1]];
-      double        len = hypot(b[0] - a[0], b[1] - a[1]), *r = m.linephys[l] == PhysTag(&m, 1, "lower_top") ? low : m.linephys[l] == PhysTag(&m, 1, "upper_bottom") ? up : NULL;
-      if (r) r[0] = fmin(r[0], len), r[1] = fmax(r[1], len);
-    }
-    printf("     edges on y = 0.5: lower_top %.4f to %.4f, upper_bottom %.4f to %.4f\n", low[0], low[1], up[0], up[1]);
-    CHECK(low[0] > 0.7 * 0.1 && low[1] < 1.3 * 0.1 && up[0] > 0.7 * 0.025 && up[1] < 1.3 * 0.025, "sizes per cell and per body: each side of the shared line y = 0.5 its body's size");
-    MshFree(&m);
-  }
-  free(h);
-  MshFree(&prev);
+  CheckSizesPerBody(&in, "lower", h, curve, INFINITY, "on y = 0.5", "each side of the shared line y = 0.5 its body's size");
 }
 
 /* the patch, sizes 0.01 at the corner (0,0) growing to 0.1 */
 static void TestPatchField(void)
 {
   char           geo[] = "/tmp/m2d_test_remesh_XXXXXX.geo", err[1024];
-  int            fd    = mkstemps(geo, 4);
-  FILE          *fp    = fdopen(fd, "w");
   M2dRemeshInput in    = {0};
   M2dRemeshStats st;
   MshMesh        prev, m, ref;
   M2dRemeshField  *f;
   double        *h, want;
-  fputs(patch_geo, fp);
-  fclose(fp);
+  NewGeo(geo, patch_geo);
   in.geo = geo;
   if (Remesh(&in, &prev, err) || MshRead("../meshes/patch_uniform.msh", &ref, err, sizeof(err))) {
     CHECK(0, "patch without a field: %s", err);
@@ -327,30 +340,13 @@ done:
  * the bodies touch each contact surface takes its own body's size */
 static void TestHertzPerBody(void)
 {
-  const char    *names[] = {"level"};
-  double         values[] = {-1}, *h, arc[2] = {1e300, 0}, top[2] = {1e300, 0};
-  M2dRemeshInput in = {0};
-  MshMesh        prev, m;
-  char           err[1024];
-  int            cyl;
+  const char       *names[] = {"level"};
+  const char *const curve[] = {"cylinder_arc", "block_top"};
+  const double      h[]     = {0.02, 0.08};
+  double            values[] = {-1};
+  M2dRemeshInput    in       = {0};
   in.geo = Path("meshes/hertz.geo"), in.nnumber = 1, in.names = names, in.values = values;
-  if (Remesh(&in, &prev, err)) return;
-  cyl = PhysTag(&prev, 2, "cylinder");
-  h   = (double *)malloc((size_t)prev.nquad * sizeof(double));
-  for (long q = 0; q < prev.nquad; q++) h[q] = prev.quadphys[q] == cyl ? 0.02 : 0.08;
-  in.prev = &prev, in.hcell = h;
-  if (!Remesh(&in, &m, err)) {
-    for (long l = 0; l < m.nline; l++) {
-      const double *a = &m.xy[2 * m.line[2 * l]], *b = &m.xy[2 * m.line[2 * l + 1]];
-      double        len = hypot(b[0] - a[0], b[1] - a[1]), *r = m.linephys[l] == PhysTag(&m, 1, "cylinder_arc") ? arc : m.linephys[l] == PhysTag(&m, 1, "block_top") ? top : NULL;
-      if (r && hypot(a[0], a[1]) < 0.3) r[0] = fmin(r[0], len), r[1] = fmax(r[1], len);
-    }
-    printf("     edges within 0.3 of the contact point: cylinder_arc %.4f to %.4f, block_top %.4f to %.4f\n", arc[0], arc[1], top[0], top[1]);
-    CHECK(arc[0] > 0.7 * 0.02 && arc[1] < 1.3 * 0.02 && top[0] > 0.7 * 0.08 && top[1] < 1.3 * 0.08, "sizes per cell and per body: each contact surface its body's size up to the contact point");
-    MshFree(&m);
-  }
-  free(h);
-  MshFree(&prev);
+  CheckSizesPerBody(&in, "cylinder", h, curve, 0.3, "within 0.3 of the contact point", "each contact surface its body's size up to the contact point");
 }
 
 /* two unit quads side by side, bodies 1 and 2, sizes per node */
