@@ -18,13 +18,13 @@ typedef struct {
 } Materials;
 
 /* the cell's corner coordinates and local dofs (8) */
-static PetscErrorCode CellDofs(const M2dMesh *m, PetscSection lsec, PetscSection cs, const PetscScalar *ca, PetscInt c, PetscReal xy[8], PetscInt dofs[8])
+static PetscErrorCode CellDofs(const M2dMesh *m, const M2dMeshArrays *ar, PetscInt c, PetscReal xy[8], PetscInt dofs[8])
 {
   PetscFunctionBeginUser;
-  MeshCellCoordinates(m, ca, cs, c, xy);
+  MeshCellCoordinates(m, ar->ca, ar->cs, c, xy);
   for (int a = 0; a < 4; a++) {
     PetscInt off;
-    PetscCall(PetscSectionGetOffset(lsec, m->cellverts[4 * (c - m->cStart) + a], &off));
+    PetscCall(PetscSectionGetOffset(ar->lsec, m->cellverts[4 * (c - m->cStart) + a], &off));
     dofs[2 * a] = off, dofs[2 * a + 1] = off + 1;
   }
   PetscFunctionReturn(0);
@@ -33,19 +33,14 @@ static PetscErrorCode CellDofs(const M2dMesh *m, PetscSection lsec, PetscSection
 /* K by the element loop (coo == NULL: MatSetValuesLocal) or into coo[64 per cell] */
 static PetscErrorCode Elements(const M2dMesh *m, const M2dScene *s, const Materials *mt, Mat K, PetscScalar coo[], PetscInt ci[], PetscInt cj[])
 {
-  PetscSection       lsec, cs;
-  Vec                cl;
-  const PetscScalar *ca;
+  M2dMeshArrays ar;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
-  PetscCall(DMGetCoordinateSection(m->dm, &cs));
-  PetscCall(VecGetArrayRead(cl, &ca));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     PetscReal xy[8], Ke[64];
     PetscInt  dofs[8], b = m->cellbody[c - m->cStart], k = 64 * (c - m->cStart);
-    PetscCall(CellDofs(m, lsec, cs, ca, c, xy, dofs));
+    PetscCall(CellDofs(m, &ar, c, xy, dofs));
     if (ci) {
       for (int i = 0; i < 64; i++) ci[k + i] = dofs[i / 8], cj[k + i] = dofs[i % 8];
       continue;
@@ -55,7 +50,7 @@ static PetscErrorCode Elements(const M2dMesh *m, const M2dScene *s, const Materi
       for (int i = 0; i < 64; i++) coo[k + i] = Ke[i];
     else PetscCall(MatSetValuesLocal(K, 8, dofs, 8, dofs, Ke, ADD_VALUES));
   }
-  PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(MeshArraysClose(&ar));
   PetscFunctionReturn(0);
 }
 
