@@ -21,7 +21,6 @@ struct M2dIterative {
   Vec        bu, q, w, e, v, du; /* u layout */
   Vec        bl, dl, t;          /* multiplier layout */
   PetscReal  c, scale;
-  PetscBool  nsp_set; /* Ar carries K's near-null space */
   KSP        ksp;
   PetscBool *built;     /* the set the preconditioner was built for (every row), or NULL */
   PetscInt   its_built; /* iterations of the first solve after that build */
@@ -223,9 +222,10 @@ static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on
 
 PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, PetscReal scale)
 {
-  const PetscScalar *on;
+  const PetscScalar *on, *dk;
+  PetscScalar       *ds;
   Vec                dS;
-  MatNullSpace       nsp;
+  PetscInt           lo, hi;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SETUP], 0, 0, 0, 0));
@@ -238,24 +238,22 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   PetscCall(SlaveRows(it, on));
   PetscCall(VecDuplicate(it->dK, &dS)); /* D_S: diag K on the active slave dofs */
   PetscCall(VecZeroEntries(dS));
+  PetscCall(VecGetOwnershipRange(dS, &lo, &hi));
+  PetscCall(VecGetArrayRead(it->dK, &dk));
+  PetscCall(VecGetArray(dS, &ds));
   for (PetscInt k = 0; k < it->nown; k++)
     for (PetscInt q = it->el.gptr[it->own[k]]; q < it->el.gptr[it->own[k] + 1]; q++) {
-      PetscInt    j = it->el.grow[q], s = it->el.slave[j], lo, hi;
-      PetscScalar d;
-      PetscCall(VecGetOwnershipRange(dS, &lo, &hi));
-      if (PetscRealPart(on[j]) == 0 || s < lo || s >= hi) continue;
-      PetscCall(VecGetValues(it->dK, 1, &s, &d));
-      PetscCall(VecSetValue(dS, s, d, INSERT_VALUES));
+      PetscInt j = it->el.grow[q], s = it->el.slave[j];
+      if (PetscRealPart(on[j]) != 0 && s >= lo && s < hi) ds[s - lo] = dk[s - lo];
     }
-  PetscCall(VecAssemblyBegin(dS));
-  PetscCall(VecAssemblyEnd(dS));
-  if (!it->Ar) PetscCall(MatPtAP(it->K, it->P, MAT_INITIAL_MATRIX, 2.0, &it->Ar));
-  else PetscCall(MatPtAP(it->K, it->P, MAT_REUSE_MATRIX, 2.0, &it->Ar));
-  if (!it->nsp_set) {
+  PetscCall(VecRestoreArray(dS, &ds));
+  PetscCall(VecRestoreArrayRead(it->dK, &dk));
+  if (!it->Ar) {
+    MatNullSpace nsp;
+    PetscCall(MatPtAP(it->K, it->P, MAT_INITIAL_MATRIX, 2.0, &it->Ar));
     PetscCall(MatGetNearNullSpace(it->K, &nsp));
     if (nsp) PetscCall(MatSetNearNullSpace(it->Ar, nsp));
-    it->nsp_set = PETSC_TRUE;
-  }
+  } else PetscCall(MatPtAP(it->K, it->P, MAT_REUSE_MATRIX, 2.0, &it->Ar));
   PetscCall(MatDiagonalSet(it->Ar, dS, ADD_VALUES));
   PetscCall(VecDestroy(&dS));
   PetscCall(KSPSetOperators(it->ksp, it->Ar, it->Ar));
@@ -278,7 +276,7 @@ static PetscErrorCode SolveFailed(M2dIterative *it)
   if (reason > 0) PetscFunctionReturn(0);
   PetscCall(KSPGetIterationNumber(it->ksp, &its));
   PetscCall(KSPGetResidualNorm(it->ksp, &rnorm));
-  SETERRQ(it->comm, PETSC_ERR_NOT_CONVERGED, "-kkt_path iterative: the Krylov solve of active-set step %" PetscInt_FMT " did not converge (%s after %" PetscInt_FMT " iterations, residual %.3e); try -iterative_pc_type hypre, more -iterative_ksp_max_it, or -kkt_path condensed", it->info.solves, KSPConvergedReasons[reason], its, (double)rnorm);
+  SETERRQ(it->comm, PETSC_ERR_NOT_CONVERGED, "-kkt_path iterative: the Krylov solve of active-set step %" PetscInt_FMT " did not converge (%s after %" PetscInt_FMT " iterations, residual %.3e); try -iterative_pc_type gamg, more -iterative_ksp_max_it, or -kkt_path condensed", it->info.solves, KSPConvergedReasons[reason], its, (double)rnorm);
 }
 
 PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
