@@ -28,6 +28,9 @@ PetscErrorCode M2dOptionsBool(PetscOptionItems *PetscOptionsObject, const char *
 /* one of list[0..n-1] (case-insensitive, as PETSc): *index is the default on
  * entry, the choice on return; -help lists the choices */
 PetscErrorCode M2dOptionsEList(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const list[], PetscInt n, PetscInt *index);
+/* The same for an enum variable (PETSc's cast: (PetscEnum *)&s->field), list in
+ * the enum's order. */
+PetscErrorCode M2dOptionsEnum(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const list[], PetscInt n, PetscEnum *value);
 /* string option: value holds the default on entry (len bytes) */
 PetscErrorCode M2dOptionsString(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, char *value, size_t len, PetscBool *set);
 /* comma-separated strings, at most max (more is an error): values[0..*n-1]

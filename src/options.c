@@ -201,6 +201,16 @@ PetscErrorCode M2dOptionsEList(PetscOptionItems *PetscOptionsObject, const char 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode M2dOptionsEnum(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const list[], PetscInt n, PetscEnum *value)
+{
+  PetscInt k = (PetscInt)*value;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsEList(PetscOptionsObject, name, help, list, n, &k));
+  *value = (PetscEnum)k;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode M2dOptionsString(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, char *value, size_t len, PetscBool *set)
 {
   char      full[256], buf[VALUE_LEN];

@@ -56,71 +56,88 @@ static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *
   PetscFunctionReturn(0);
 }
 
-/* entry GROUP:A[:B...] of option opt split into fields f of buf (at most max)
- * and GROUP copied to group; *nf = 0, and the error kept (options.h), when the
- * number of fields is not one of `counts` (bit n: n fields) */
-static PetscErrorCode SplitEntry(const char *opt, const char *form, const char *entry, char buf[ENTRY_LEN], char **f, int max, unsigned counts, char group[M2D_NAME_LEN], int *nf)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, ENTRY_LEN));
-  *nf = Split(buf, f, max);
-  if (!(counts >> *nf & 1u)) {
-    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", opt, entry, form));
-    *nf = 0;
-  } else PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
-  PetscFunctionReturn(0);
-}
+/* the form of one comma-separated entry of -dirichlet, -pressure or -traction:
+ * GROUP, `words` words, then numbers; `counts` has bit n set when n fields are allowed */
+typedef struct {
+  const char *opt, *form, *help;
+  int         words;
+  unsigned    counts;
+} EntryForm;
 
-static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
-{
-  char *f[4], buf[ENTRY_LEN];
-  int   nf;
+enum { ENTRY_DIRICHLET, ENTRY_PRESSURE, ENTRY_TRACTION, ENTRY_KINDS };
 
-  PetscFunctionBeginUser;
-  PetscCall(SplitEntry("-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", entry, buf, f, 3, 1u << 2 | 1u << 3, bc->group, &nf));
-  if (!nf) PetscFunctionReturn(0);
-  bc->frame = M2D_BC_XY;
-  if (!strcmp(f[1], "x")) bc->comp[0] = PETSC_TRUE;
-  else if (!strcmp(f[1], "y")) bc->comp[1] = PETSC_TRUE;
-  else if (!strcmp(f[1], "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
-  else if (!strcmp(f[1], "n")) bc->frame = M2D_BC_NORMAL;
-  else if (!strcmp(f[1], "t")) bc->frame = M2D_BC_TANGENT;
-  else PetscCall(M2dOptionsDefer("option -dirichlet: unknown component '%s' in '%s' (x, y, xy, n or t)", f[1], entry));
-  if (nf == 3) {
-    PetscReal v = 0;
-    PetscCall(ParseReal("-dirichlet", entry, f[2], &v));
-    bc->value[0] = bc->value[1] = v;
-  }
-  PetscFunctionReturn(0);
-}
+static const EntryForm entry_forms[ENTRY_KINDS] = {
+  {"-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], comma separated; default: none", 1, 1u << 2 | 1u << 3},
+  {"-pressure",  "GROUP:P or GROUP:P:GX:GY", "normal pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in; default: none", 0, 1u << 2 | 1u << 4},
+  {"-traction",  "GROUP:TX:TY",              "traction vector GROUP:TX:TY on a physical curve, comma separated; default: none", 0, 1u << 3},
+};
 
-static PetscErrorCode ParsePressure(const char *entry, M2dEdgeLoad *l)
+/* entry split by its form: GROUP into group, the word (if the form has one)
+ * into word, the numbers into v[0..*nv); *nv = -1, and the error kept
+ * (options.h), when the number of fields is wrong */
+static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char group[M2D_NAME_LEN], char word[M2D_NAME_LEN], PetscReal v[], int *nv)
 {
   char *f[5], buf[ENTRY_LEN];
   int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(SplitEntry("-pressure", "GROUP:P or GROUP:P:GX:GY", entry, buf, f, 4, 1u << 2 | 1u << 4, l->group, &nf));
-  if (!nf) PetscFunctionReturn(0);
-  l->is_pressure = PETSC_TRUE;
-  PetscCall(ParseReal("-pressure", entry, f[1], &l->p));
-  if (nf == 4) {
-    PetscCall(ParseReal("-pressure", entry, f[2], &l->grad[0]));
-    PetscCall(ParseReal("-pressure", entry, f[3], &l->grad[1]));
+  PetscCall(PetscStrncpy(buf, entry, ENTRY_LEN));
+  nf  = Split(buf, f, 4);
+  *nv = -1;
+  if (!(ef->counts >> nf & 1u)) {
+    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
+  if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
+  *nv = nf - 1 - ef->words;
+  for (int k = 0; k < *nv; k++) {
+    v[k] = 0;
+    PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
   }
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ParseTraction(const char *entry, M2dEdgeLoad *l)
+static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
 {
-  char *f[4], buf[ENTRY_LEN];
-  int   nf;
+  char      comp[M2D_NAME_LEN];
+  PetscReal v[1];
+  int       nv;
 
   PetscFunctionBeginUser;
-  PetscCall(SplitEntry("-traction", "GROUP:TX:TY", entry, buf, f, 3, 1u << 3, l->group, &nf));
-  if (!nf) PetscFunctionReturn(0);
-  PetscCall(ParseReal("-traction", entry, f[1], &l->t[0]));
-  PetscCall(ParseReal("-traction", entry, f[2], &l->t[1]));
+  PetscCall(ParseEntry(&entry_forms[ENTRY_DIRICHLET], entry, bc->group, comp, v, &nv));
+  if (nv < 0) PetscFunctionReturn(0);
+  bc->frame = M2D_BC_XY;
+  if (!strcmp(comp, "x")) bc->comp[0] = PETSC_TRUE;
+  else if (!strcmp(comp, "y")) bc->comp[1] = PETSC_TRUE;
+  else if (!strcmp(comp, "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
+  else if (!strcmp(comp, "n")) bc->frame = M2D_BC_NORMAL;
+  else if (!strcmp(comp, "t")) bc->frame = M2D_BC_TANGENT;
+  else PetscCall(M2dOptionsDefer("option -dirichlet: unknown component '%s' in '%s' (x, y, xy, n or t)", comp, entry));
+  if (nv == 1) bc->value[0] = bc->value[1] = v[0];
+  PetscFunctionReturn(0);
+}
+
+/* a -pressure (P[:GX:GY]) or -traction (TX:TY) entry */
+static PetscErrorCode ParseEdgeLoad(int kind, const char *entry, M2dEdgeLoad *l)
+{
+  PetscReal v[3];
+  int       nv;
+
+  PetscFunctionBeginUser;
+  PetscCall(ParseEntry(&entry_forms[kind], entry, l->group, NULL, v, &nv));
+  if (nv < 0) PetscFunctionReturn(0);
+  if (kind == ENTRY_TRACTION) {
+    l->t[0] = v[0];
+    l->t[1] = v[1];
+    PetscFunctionReturn(0);
+  }
+  l->is_pressure = PETSC_TRUE;
+  l->p           = v[0];
+  if (nv == 3) {
+    l->grad[0] = v[1];
+    l->grad[1] = v[2];
+  }
   PetscFunctionReturn(0);
 }
 
@@ -140,9 +157,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   }
   PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_dir", "directory of the -mesh files not found from the current directory", s->mesh_dir, sizeof(s->mesh_dir), NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mesh_scale", "multiply the mesh coordinates by this factor (a change of length unit), > 0", s->mesh_scale, &s->mesh_scale, NULL));
-  k = s->mesh_partitioner;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-mesh_partitioner", "cells over the ranks: metis (libmetis on rank 0) or petsc (-petscpartitioner_type)", parts, 2, &k));
-  s->mesh_partitioner = (M2dPartitioner)k;
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-mesh_partitioner", "cells over the ranks: metis (libmetis on rank 0) or petsc (-petscpartitioner_type)", parts, 2, (PetscEnum *)&s->mesh_partitioner));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
@@ -160,9 +175,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
     PetscCall(PetscSNPrintf(name, sizeof(name), "-%s_nu", s->body[i].name));
     PetscCall(M2dOptionsKnow(name));
   }
-  k = s->plane;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, &k));
-  s->plane = (M2dPlane)k;
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, (PetscEnum *)&s->plane));
   k = s->sri ? 1 : 0;
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced: cures volumetric locking)", integ, 2, &k));
   s->sri = (PetscBool)(k == 1);
@@ -171,20 +184,17 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
 
 static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
-  char    *dir[M2D_MAX_BC], *pres[M2D_MAX_BC], *trac[M2D_MAX_BC];
-  PetscInt ndir, npres, ntrac;
+  char    *list[ENTRY_KINDS][M2D_MAX_BC];
+  PetscInt n[ENTRY_KINDS];
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-dirichlet", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], comma separated; default: none", M2D_MAX_BC, dir, &ndir));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-pressure", "normal pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in; default: none", M2D_MAX_BC, pres, &npres));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-traction", "traction vector GROUP:TX:TY on a physical curve, comma separated; default: none", M2D_MAX_BC, trac, &ntrac));
-  for (PetscInt i = 0; i < ndir; i++) PetscCall(ParseDirichlet(dir[i], &s->dir[s->ndir++]));
-  if (npres + ntrac > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
-  for (PetscInt i = 0; i < npres && s->nload < M2D_MAX_BC; i++) PetscCall(ParsePressure(pres[i], &s->load[s->nload++]));
-  for (PetscInt i = 0; i < ntrac && s->nload < M2D_MAX_BC; i++) PetscCall(ParseTraction(trac[i], &s->load[s->nload++]));
-  for (PetscInt i = 0; i < ndir; i++) PetscCall(PetscFree(dir[i]));
-  for (PetscInt i = 0; i < npres; i++) PetscCall(PetscFree(pres[i]));
-  for (PetscInt i = 0; i < ntrac; i++) PetscCall(PetscFree(trac[i]));
+  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, list[k], &n[k]));
+  for (PetscInt i = 0; i < n[ENTRY_DIRICHLET]; i++) PetscCall(ParseDirichlet(list[ENTRY_DIRICHLET][i], &s->dir[s->ndir++]));
+  if (n[ENTRY_PRESSURE] + n[ENTRY_TRACTION] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
+  for (int k = ENTRY_PRESSURE; k <= ENTRY_TRACTION; k++)
+    for (PetscInt i = 0; i < n[k] && s->nload < M2D_MAX_BC; i++) PetscCall(ParseEdgeLoad(k, list[k][i], &s->load[s->nload++]));
+  for (int k = 0; k < ENTRY_KINDS; k++)
+    for (PetscInt i = 0; i < n[k]; i++) PetscCall(PetscFree(list[k][i]));
   PetscFunctionReturn(0);
 }
 
@@ -193,17 +203,12 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   const char *const methods[] = {"mortar", "nts"}; /* order of M2dContactMethod */
   const char *const basis[]   = {"standard", "dual"}; /* order of MortarBasis */
   const char *const init[]    = {"gap", "closest", "all"};
-  PetscInt          k;
 
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "physical curve of the non-mortar contact surface; default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "physical curve of the mortar contact surface; default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
-  k = s->method;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-contact_method", "contact discretisation: mortar or nts (node-to-segment)", methods, 2, &k));
-  s->method = (M2dContactMethod)k;
-  k = s->basis;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-mortar_basis", "multipliers: standard (the seed report) or dual (biorthogonal: diagonal D)", basis, 2, &k));
-  s->basis = (int)k;
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-contact_method", "contact discretisation: mortar or nts (node-to-segment)", methods, 2, (PetscEnum *)&s->method));
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-mortar_basis", "multipliers: standard (the seed report) or dual (biorthogonal: diagonal D)", basis, 2, (PetscEnum *)&s->basis));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_unilateral", "unilateral contact (active set); false: every candidate node held closed (tied)", s->unilateral, &s->unilateral));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-contact_c", "complementarity parameter c of the active-set test, > 0; auto: E*/h^2", &s->contact_c, &s->contact_c_set));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-contact_initial", "first active set: gap (closed gaps), closest (smallest gaps) or all (every candidate)", init, 3, &s->contact_initial));
@@ -215,11 +220,9 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
 static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   const char *const exact[] = {"none", "uniform", "mms"}; /* order of M2dExact */
-  PetscInt          k       = s->exact;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-exact", "compare with an exact solution: uniform (sigma_yy = -p, the rest 0) or mms", exact, 3, &k));
-  s->exact = (M2dExact)k;
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-exact", "compare with an exact solution: uniform (sigma_yy = -p, the rest 0) or mms", exact, 3, (PetscEnum *)&s->exact));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-exact_p", "-exact uniform: the exact -sigma_yy, > 0; auto: the first -pressure", &s->exact_p, &s->exact_p_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_angle", "-exact uniform: its frame turned by this angle, in degrees", s->exact_angle, &s->exact_angle, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
@@ -234,18 +237,11 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
   const char *const mats[]  = {"aij", "nest"}; /* order of M2dKKTMat */
   const char *const paths[] = {"full", "condensed", "iterative"}; /* order of M2dKKTPath */
   const char *const ords[]  = {"mumps", "metis"}; /* order of M2dOrdering */
-  PetscInt          k;
 
   PetscFunctionBeginUser;
-  k = s->kkt_mat;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, &k));
-  s->kkt_mat = (M2dKKTMat)k;
-  k = s->kkt_path;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_path", "solves: condensed (factor once), full (KKT each step) or iterative (CG + AMG in u)", paths, 3, &k));
-  s->kkt_path = (M2dKKTPath)k;
-  k = s->kkt_ordering;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering for MUMPS: metis (nested dissection) or mumps (its own)", ords, 2, &k));
-  s->kkt_ordering = (M2dOrdering)k;
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, (PetscEnum *)&s->kkt_mat));
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_path", "solves: condensed (factor once), full (KKT each step) or iterative (CG + AMG in u)", paths, 3, (PetscEnum *)&s->kkt_path));
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering for MUMPS: metis (nested dissection) or mumps (its own)", ords, 2, (PetscEnum *)&s->kkt_ordering));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2); false: LU", s->kkt_ldlt, &s->kkt_ldlt));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_4", "condensed path's MUMPS ICNTL(4): output level, 0 to 4", s->icntl4, &s->icntl4, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_7", "condensed path's MUMPS ICNTL(7) with -kkt_ordering mumps: ordering, 0 or 2 to 7", s->icntl7, &s->icntl7, NULL));
@@ -270,33 +266,15 @@ static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene 
 static PetscErrorCode Defaults(M2dScene *s)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(s, sizeof(*s)));
-  s->mesh_scale       = 1.0;
-  s->mesh_partitioner = M2D_PARTITIONER_METIS;
-  s->plane            = M2D_PLANE_STRAIN;
-  s->mms_amplitude    = 1e-3;
-  s->mms_wavenumber   = PETSC_PI;
-  s->method           = M2D_CONTACT_MORTAR;
-  s->unilateral       = PETSC_TRUE;
-  s->contact_monitor  = PETSC_TRUE;
-  s->contact_initial  = 1;
-  s->hertz_nradius    = 1;
-  s->hertz_radii[0]   = 1.0;
-  s->kkt_mat          = M2D_KKT_AIJ;
-  s->kkt_path         = M2D_KKT_PATH_CONDENSED;
-  s->kkt_ordering     = M2D_ORDERING_METIS;
-  s->kkt_ldlt         = PETSC_TRUE;
-  s->icntl4           = 0;
-  s->icntl7           = 7;
-  s->icntl8           = 0;
-  s->icntl14          = 20;
-  s->icntl58          = 2;
-  s->write_vtu        = PETSC_TRUE;
-  s->write_hdf5       = PETSC_TRUE;
-  snprintf(s->mesh_dir, sizeof(s->mesh_dir), "%s", M2D_MESH_DIR);
-  snprintf(s->geo_dir, sizeof(s->geo_dir), "%s", M2D_GEO_DIR);
-  snprintf(s->outdir, sizeof(s->outdir), "output");
-  snprintf(s->outname, sizeof(s->outname), "solution");
+  /* by job, as the options are read; every other field 0 */
+  *s = (M2dScene){
+    .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
+    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0},
+    .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
+    .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE,
+    .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
+    .write_vtu = PETSC_TRUE, .write_hdf5 = PETSC_TRUE, .outdir = "output", .outname = "solution",
+  };
   PetscFunctionReturn(0);
 }
 
