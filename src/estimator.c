@@ -26,8 +26,16 @@ typedef struct {
   BodyMat         bm[M2D_MAX_BODIES];
 } Ctx;
 
+#define MAXQ 9 /* Gauss points of the 3 x 3 rule */
+
+/* one cell and its FE stresses at the points of an n x n Gauss rule */
 typedef struct {
   PetscReal xy[8], ue[8], epsc[3]; /* corners, displacements, strain at the centre */
+  int       nq;                    /* Gauss points, n * n */
+  PetscReal N[MAXQ][4];            /* shape functions at each */
+  PetscReal p[MAXQ][2];            /* its position */
+  PetscReal sig[MAXQ][3];          /* the FE stress there (StressAt) */
+  PetscReal w[MAXQ];               /* quadrature weight x det J */
 } CellData;
 
 static void Inverse3(const PetscReal A[9], PetscReal B[9])
@@ -62,23 +70,6 @@ static void BodyMats(const M2dScene *s, BodyMat bm[])
   }
 }
 
-static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, CellData *cd)
-{
-  PetscReal N[4], dN[8];
-
-  PetscFunctionBeginUser;
-  MeshCellCoordinates(x->m, x->ar.ca, x->ar.cs, c, cd->xy);
-  for (int a = 0; a < 4; a++) {
-    PetscInt off;
-    PetscCall(PetscSectionGetOffset(x->ar.lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
-    cd->ue[2 * a]     = PetscRealPart(x->ar.ua[off]);
-    cd->ue[2 * a + 1] = PetscRealPart(x->ar.ua[off + 1]);
-  }
-  Q4Shape(cd->xy, 0, 0, N, dN);
-  Q4Strain(dN, cd->ue, cd->epsc);
-  PetscFunctionReturn(0);
-}
-
 /* FE stress at (xi, et), as the stiffness integrates it: D eps, and with sri
  * the lambda part from the centre strain (D = Dr + lam m m^T, m = [1 1 0]).
  * Returns det J; N gets the shape functions there. */
@@ -93,6 +84,35 @@ static PetscReal StressAt(const CellData *cd, const BodyMat *bm, PetscBool sri, 
     sig[1] += dv;
   }
   return det;
+}
+
+/* cell c (of body b) with its FE stresses at the n x n Gauss points (n = 2 or 3) */
+static PetscErrorCode LoadCell(const Ctx *x, PetscInt c, PetscInt b, int n, CellData *cd)
+{
+  const PetscReal *g = n == 2 ? g2 : g3;
+  PetscReal        N[4], dN[8];
+
+  PetscFunctionBeginUser;
+  MeshCellCoordinates(x->m, x->ar.ca, x->ar.cs, c, cd->xy);
+  for (int a = 0; a < 4; a++) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(x->ar.lsec, x->m->cellverts[4 * (c - x->m->cStart) + a], &off));
+    cd->ue[2 * a]     = PetscRealPart(x->ar.ua[off]);
+    cd->ue[2 * a + 1] = PetscRealPart(x->ar.ua[off + 1]);
+  }
+  Q4Shape(cd->xy, 0, 0, N, dN);
+  Q4Strain(dN, cd->ue, cd->epsc);
+  cd->nq = n * n;
+  for (int q = 0; q < cd->nq; q++) {
+    int i = q / n, j = q % n;
+    cd->w[q] = (n == 2 ? 1.0 : w3[i] * w3[j]) * StressAt(cd, &x->bm[b], x->s->sri, g[i], g[j], cd->N[q], cd->sig[q]);
+    cd->p[q][0] = cd->p[q][1] = 0;
+    for (int a = 0; a < 4; a++) {
+      cd->p[q][0] += cd->N[q][a] * cd->xy[2 * a];
+      cd->p[q][1] += cd->N[q][a] * cd->xy[2 * a + 1];
+    }
+  }
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode CtxOpen(const M2dMesh *m, const M2dScene *s, Vec u, Ctx *x)
@@ -138,33 +158,27 @@ static PetscErrorCode AccumulatePatches(const Ctx *x, PetscInt b, M2dRecovery re
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     CellData cd;
     if (m->cellbody[c - m->cStart] != b) continue;
-    PetscCall(LoadCell(x, c, &cd));
-    for (int i = 0; i < 2; i++)
-      for (int j = 0; j < 2; j++) {
-        PetscReal N[4], sig[3], px = 0, py = 0, det = StressAt(&cd, &x->bm[b], x->s->sri, g2[i], g2[j], N, sig);
-        PetscReal w = rec == M2D_RECOVERY_SPR ? 1.0 : det;
-        for (int a = 0; a < 4; a++) {
-          px += N[a] * cd.xy[2 * a];
-          py += N[a] * cd.xy[2 * a + 1];
+    PetscCall(LoadCell(x, c, b, 2, &cd));
+    for (int q = 0; q < cd.nq; q++) {
+      PetscReal w = rec == M2D_RECOVERY_SPR ? 1.0 : cd.w[q];
+      for (int a = 0; a < 4; a++) {
+        PetscInt     off;
+        PetscReal    P[3] = {1, cd.p[q][0] - cd.xy[2 * a], cd.p[q][1] - cd.xy[2 * a + 1]};
+        PetscScalar *A;
+        PetscCall(PetscSectionGetOffset(rsec, m->cellverts[4 * (c - m->cStart) + a], &off));
+        A = &acc[off];
+        A[0] += w;
+        if (np == 3) {
+          A[1] += w * P[1];
+          A[2] += w * P[2];
+          A[3] += w * P[1] * P[1];
+          A[4] += w * P[1] * P[2];
+          A[5] += w * P[2] * P[2];
         }
-        for (int a = 0; a < 4; a++) {
-          PetscInt     off;
-          PetscReal    P[3] = {1, px - cd.xy[2 * a], py - cd.xy[2 * a + 1]};
-          PetscScalar *A;
-          PetscCall(PetscSectionGetOffset(rsec, m->cellverts[4 * (c - m->cStart) + a], &off));
-          A = &acc[off];
-          A[0] += w;
-          if (np == 3) {
-            A[1] += w * P[1];
-            A[2] += w * P[2];
-            A[3] += w * P[1] * P[1];
-            A[4] += w * P[1] * P[2];
-            A[5] += w * P[2] * P[2];
-          }
-          for (int k = 0; k < np; k++)
-            for (int r = 0; r < 3; r++) A[6 + 3 * k + r] += w * P[k] * sig[r];
-        }
+        for (int k = 0; k < np; k++)
+          for (int r = 0; r < 3; r++) A[6 + 3 * k + r] += w * P[k] * cd.sig[q][r];
       }
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -231,17 +245,16 @@ static PetscErrorCode CellIndicators(const Ctx *x, PetscInt b, const PetscReal s
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
     CellData cd;
     if (m->cellbody[c - m->cStart] != b) continue;
-    PetscCall(LoadCell(x, c, &cd));
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        PetscReal N[4], sig[3], d[3], w = w3[i] * w3[j] * StressAt(&cd, &x->bm[b], x->s->sri, g3[i], g3[j], N, sig);
-        for (int r = 0; r < 3; r++) {
-          d[r] = -sig[r];
-          for (int a = 0; a < 4; a++) d[r] += N[a] * sv[3 * (m->cellverts[4 * (c - m->cStart) + a] - m->vStart) + r];
-        }
-        eta2[c - m->cStart] += w * Quad(x->bm[b].C, d);
-        *energy += w * Quad(x->bm[b].C, sig);
+    PetscCall(LoadCell(x, c, b, 3, &cd));
+    for (int q = 0; q < cd.nq; q++) {
+      PetscReal d[3];
+      for (int r = 0; r < 3; r++) {
+        d[r] = -cd.sig[q][r];
+        for (int a = 0; a < 4; a++) d[r] += cd.N[q][a] * sv[3 * (m->cellverts[4 * (c - m->cStart) + a] - m->vStart) + r];
       }
+      eta2[c - m->cStart] += cd.w[q] * Quad(x->bm[b].C, d);
+      *energy += cd.w[q] * Quad(x->bm[b].C, cd.sig[q]);
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -515,23 +528,18 @@ PetscErrorCode M2dExactEnergyError(const M2dMesh *m, const M2dScene *s, Vec u, P
   PetscCheck(s->exact == M2D_EXACT_MMS || s->exact == M2D_EXACT_UNIFORM, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option -exact: the true energy error needs -exact mms or uniform");
   PetscCall(CtxOpen(m, s, u, &x));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) {
-    CellData cd;
-    PetscInt b = m->cellbody[c - m->cStart];
+    CellData  cd;
+    PetscInt  b = m->cellbody[c - m->cStart];
     PetscReal dh;
-    PetscCall(LoadCell(&x, c, &cd));
+    PetscCall(LoadCell(&x, c, b, 3, &cd));
     dh = 1e-3 * PetscSqrtReal(PetscSqr(cd.xy[4] - cd.xy[0]) + PetscSqr(cd.xy[5] - cd.xy[1]));
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        PetscReal N[4], sig[3], ex[3], d[3], px = 0, py = 0, w = w3[i] * w3[j] * StressAt(&cd, &x.bm[b], s->sri, g3[i], g3[j], N, sig);
-        for (int a = 0; a < 4; a++) {
-          px += N[a] * cd.xy[2 * a];
-          py += N[a] * cd.xy[2 * a + 1];
-        }
-        ExactStress(s, &x.bm[b], px, py, dh, ex);
-        for (int r = 0; r < 3; r++) d[r] = ex[r] - sig[r];
-        loc[0] += w * Quad(x.bm[b].C, d);
-        loc[1] += w * Quad(x.bm[b].C, ex);
-      }
+    for (int q = 0; q < cd.nq; q++) {
+      PetscReal ex[3], d[3];
+      ExactStress(s, &x.bm[b], cd.p[q][0], cd.p[q][1], dh, ex);
+      for (int r = 0; r < 3; r++) d[r] = ex[r] - cd.sig[q][r];
+      loc[0] += cd.w[q] * Quad(x.bm[b].C, d);
+      loc[1] += cd.w[q] * Quad(x.bm[b].C, ex);
+    }
   }
   PetscCall(MeshArraysClose(&x.ar));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
