@@ -60,8 +60,10 @@ static PetscErrorCode InterfaceAssemble(M2dCondensed *cs, PetscScalar *S, PetscS
     if (sp->row[i].kind == UNKNOWN_INTERIOR) continue;
     r = InterfaceIndex(sp, sp->row[i]);
     PetscCall(RowReaderGet(&rr, i));
-    for (PetscInt e = 0; e < rr.n; e++) /* interior columns are in some rank's S */
-      if (rr.col[e].kind == UNKNOWN_SEPARATOR || rr.col[e].kind == UNKNOWN_MULTIPLIER) A[r + InterfaceIndex(sp, rr.col[e]) * G] += rr.val[e];
+    for (PetscInt e = 0; e < rr.n; e++) { /* interior columns are in some rank's S */
+      Unknown c = rr.ent[e].col;
+      if (c.kind == UNKNOWN_SEPARATOR || c.kind == UNKNOWN_MULTIPLIER) A[r + InterfaceIndex(sp, c) * G] += rr.ent[e].val;
+    }
   }
   PetscCall(RowReaderDestroy(&rr));
   for (PetscInt off = 0; off < G * G;) { /* MPI counts are int */

@@ -45,8 +45,10 @@ typedef struct {
   Mat             Kg, C, Ct;
   const RowSplit *split;
   PetscInt        n, cap; /* entries of the current row; room */
-  Unknown        *col;
-  PetscScalar    *val;
+  struct {
+    Unknown     col;
+    PetscScalar val;
+  } *ent;
 } RowReader;
 
 /* This rank's sparse factorization: its interior rows, then the interface

@@ -91,14 +91,14 @@ PetscErrorCode RowReaderCreate(M2dCondensed *cs, RowReader *rr)
   rr->Ct    = cs->Ct;
   rr->split = &cs->split;
   rr->cap   = 64;
-  PetscCall(PetscMalloc2(rr->cap, &rr->col, rr->cap, &rr->val));
+  PetscCall(PetscMalloc1(rr->cap, &rr->ent));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode RowReaderDestroy(RowReader *rr)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFree2(rr->col, rr->val));
+  PetscCall(PetscFree(rr->ent));
   PetscFunctionReturn(0);
 }
 
@@ -125,24 +125,17 @@ static PetscErrorCode AppendRow(RowReader *rr, Mat A, PetscInt row, PetscBool mu
   PetscFunctionBeginUser;
   PetscCall(MatGetRow(A, row, &m, &c, &v));
   if (rr->n + m > rr->cap) {
-    Unknown     *col;
-    PetscScalar *val;
     rr->cap = 2 * (rr->n + m);
-    PetscCall(PetscMalloc2(rr->cap, &col, rr->cap, &val));
-    PetscCall(PetscArraycpy(col, rr->col, rr->n));
-    PetscCall(PetscArraycpy(val, rr->val, rr->n));
-    PetscCall(PetscFree2(rr->col, rr->val));
-    rr->col = col;
-    rr->val = val;
+    PetscCall(PetscRealloc(rr->cap * sizeof(*rr->ent), &rr->ent));
   }
   for (PetscInt k = 0; k < m; k++, rr->n++) {
-    Unknown *x = &rr->col[rr->n];
+    Unknown *x = &rr->ent[rr->n].col;
     if (multiplier_cols) {
       x->kind  = UNKNOWN_MULTIPLIER;
       x->index = c[k];
     } else if (c[k] >= sp->u0 && c[k] < sp->u1) *x = sp->row[c[k] - sp->u0];
     else PetscCall(ClassifyOther(sp, c[k], x));
-    rr->val[rr->n] = v[k];
+    rr->ent[rr->n].val = v[k];
   }
   PetscCall(MatRestoreRow(A, row, &m, &c, &v));
   PetscFunctionReturn(0);
@@ -178,7 +171,7 @@ static PetscErrorCode LocalTriples(M2dCondensed *cs, RowReader *rr, PetscInt sch
     if (r.kind != UNKNOWN_INTERIOR) continue;
     PetscCall(RowReaderGet(rr, i));
     for (PetscInt e = 0; e < rr->n; e++) {
-      Unknown     c = rr->col[e];
+      Unknown     c = rr->ent[e].col;
       PetscInt    row = r.index + 1, col, g;
       PetscBool   both;
       if (c.kind == UNKNOWN_FOREIGN) {
@@ -201,14 +194,14 @@ static PetscErrorCode LocalTriples(M2dCondensed *cs, RowReader *rr, PetscInt sch
       if (irn) {
         irn[k] = (M2dMumpsInt)row;
         jcn[k] = (M2dMumpsInt)col;
-        a[k]   = rr->val[e];
+        a[k]   = rr->ent[e].val;
       }
       k++;
       if (both) {
         if (irn) {
           irn[k] = (M2dMumpsInt)col;
           jcn[k] = (M2dMumpsInt)row;
-          a[k]   = rr->val[e];
+          a[k]   = rr->ent[e].val;
         }
         k++;
       }

@@ -154,15 +154,9 @@ static PetscErrorCode RowAdd(RowAcc *r, PetscInt col, PetscReal v)
       PetscFunctionReturn(0);
     }
   if (r->n == r->cap) {
-    PetscInt  *c;
-    PetscReal *v2;
     r->cap = r->cap ? 2 * r->cap : 8;
-    PetscCall(PetscMalloc2(r->cap, &c, r->cap, &v2));
-    PetscCall(PetscArraycpy(c, r->col, r->n));
-    PetscCall(PetscArraycpy(v2, r->val, r->n));
-    PetscCall(PetscFree2(r->col, r->val));
-    r->col = c;
-    r->val = v2;
+    PetscCall(PetscRealloc(r->cap * sizeof(*r->col), &r->col));
+    PetscCall(PetscRealloc(r->cap * sizeof(*r->val), &r->val));
   }
   r->col[r->n]   = col;
   r->val[r->n++] = v;
@@ -212,7 +206,8 @@ static PetscErrorCode RowsFinish(RowSet *rs, M2dContactRows *R)
       R->ptr[k + 1] = R->ptr[k] + acc[i].n;
       k++;
     }
-    PetscCall(PetscFree2(acc[i].col, acc[i].val));
+    PetscCall(PetscFree(acc[i].col));
+    PetscCall(PetscFree(acc[i].val));
   }
   PetscCall(PetscFree(rs->acc));
   PetscCall(PetscFree3(rs->g0, rs->w, rs->keep));
