@@ -10,6 +10,7 @@
  * an MshMesh filled in memory). Plain C, no PETSc: unit-testable alone. */
 #ifndef M2D_MSH_H
 #define M2D_MSH_H
+#include <stdarg.h>
 #include <stddef.h>
 
 typedef struct {
@@ -46,6 +47,11 @@ typedef struct {
 int  MshRead(const char *path, MshMesh *m, char *err, size_t errlen);
 /* Free every array of m and zero it (m itself is the caller's). */
 void MshFree(MshMesh *m);
+
+/* The first error of a run kept as one line "WHERE: WHAT" in err[0..len), WHAT
+ * formatted from fmt; once *failed is set later errors are dropped. Sets
+ * *failed, returns 1. The reader's and the remesher's (remesh.h) errors. */
+int MshKeepError(char *err, size_t len, int *failed, const char *where, const char *fmt, va_list ap);
 /* Name of the physical group (dim, tag) of m, NULL if unnamed; points into m. */
 const char *MshPhysicalName(const MshMesh *m, int dim, int tag);
 #endif

@@ -19,17 +19,26 @@ static long LineOf(const Parser *p, size_t pos)
   return line;
 }
 
+int MshKeepError(char *err, size_t len, int *failed, const char *where, const char *fmt, va_list ap)
+{
+  char what[1024];
+  if (*failed) return 1;
+  vsnprintf(what, sizeof(what), fmt, ap);
+  snprintf(err, len, "%s: %s", where, what);
+  *failed = 1;
+  return 1;
+}
+
 int MshFail(Parser *p, const char *fmt, ...)
 {
-  char    what[512];
+  char    where[4200];
   va_list ap;
   if (p->failed) return 1;
+  if (p->binary) snprintf(where, sizeof(where), "mesh file '%s' (binary), byte %zu%s%s", p->path, p->pos, p->section ? " in " : "", p->section ? p->section : "");
+  else snprintf(where, sizeof(where), "mesh file '%s', line %ld%s%s", p->path, LineOf(p, p->pos), p->section ? " in " : "", p->section ? p->section : "");
   va_start(ap, fmt);
-  vsnprintf(what, sizeof(what), fmt, ap);
+  MshKeepError(p->err, p->errlen, &p->failed, where, fmt, ap);
   va_end(ap);
-  if (p->binary) snprintf(p->err, p->errlen, "mesh file '%s' (binary), byte %zu%s%s: %s", p->path, p->pos, p->section ? " in " : "", p->section ? p->section : "", what);
-  else snprintf(p->err, p->errlen, "mesh file '%s', line %ld%s%s: %s", p->path, LineOf(p, p->pos), p->section ? " in " : "", p->section ? p->section : "", what);
-  p->failed = 1;
   return 1;
 }
 

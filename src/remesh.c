@@ -41,14 +41,12 @@ static double Now(void)
 
 static int Fail(Ctx *c, const char *fmt, ...)
 {
-  char    what[1024];
+  char    where[PATH_MAX + 32];
   va_list ap;
-  if (c->failed) return 1;
+  snprintf(where, sizeof(where), "remeshing '%s'", c->geo ? c->geo : "(null)");
   va_start(ap, fmt);
-  vsnprintf(what, sizeof(what), fmt, ap);
+  MshKeepError(c->err, c->errlen, &c->failed, where, fmt, ap);
   va_end(ap);
-  snprintf(c->err, c->errlen, "remeshing '%s': %s", c->geo ? c->geo : "(null)", what);
-  c->failed = 1;
   return 1;
 }
 
