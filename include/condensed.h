@@ -78,12 +78,10 @@ PetscErrorCode CondensedJacobian(M2dCondensed *cs, Vec active, PetscReal c, Pets
 PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J);
 PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x);
 /* u = u(nu) = Kg^-1 (f - C^T nu) by MUMPS' expansion phase (any number of
- * times; u: layout of Kg's rows). Collective. */
-PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u);
-/* u = -Kg^-1 C^T nu: the same without the load (a dual problem's
- * displacement, dual.h; the rows of its nu come from CondensedJacobian and
- * CondensedJacobianSolve). Collective. */
-PetscErrorCode CondensedRecoverUnloaded(M2dCondensed *cs, Vec nu, Vec u);
+ * times; u: layout of Kg's rows); without `load` u = -Kg^-1 C^T nu (a dual
+ * problem's displacement, dual.h; the rows of its nu come from
+ * CondensedJacobian and CondensedJacobianSolve). Collective. */
+PetscErrorCode CondensedRecover(M2dCondensed *cs, PetscBool load, Vec nu, Vec u);
 /* What the factorization cost and how big the interface is. Not collective. */
 PetscErrorCode CondensedGetInfo(const M2dCondensed *cs, M2dCondensedInfo *info);
 /* Frees everything (the references to Kg, C, Ct too); *cs = NULL. Collective. */

@@ -413,7 +413,7 @@ static PetscErrorCode Finish(M2dActiveSet *as, Vec z, Vec nu, Vec u, Vec lam)
 {
   PetscFunctionBeginUser;
   if (as->cond) { /* lambda from the last residual evaluation, u by one substitution */
-    PetscCall(CondensedRecover(as->cond, nu, u));
+    PetscCall(CondensedRecover(as->cond, PETSC_TRUE, nu, u));
     PetscCall(VecCopy(as->lam, lam));
   } else {
     PetscCall(VecISCopy(z, as->kkt->isu, SCATTER_REVERSE, u));

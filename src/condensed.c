@@ -341,7 +341,7 @@ PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x)
  * rank's interior by MUMPS' expansion phase from x_s, nu and the condensed
  * right-hand side: f (condensed again first when an earlier recovery has
  * consumed it), or zero without the load (z = 0 then) */
-static PetscErrorCode Recover(M2dCondensed *cs, Vec nu, Vec u, PetscBool load)
+PetscErrorCode CondensedRecover(M2dCondensed *cs, PetscBool load, Vec nu, Vec u)
 {
   const RowSplit    *sp = &cs->split;
   LocalFactor       *lf = &cs->local;
@@ -379,20 +379,6 @@ static PetscErrorCode Recover(M2dCondensed *cs, Vec nu, Vec u, PetscBool load)
   for (PetscInt i = 0; i < sp->u1 - sp->u0; i++) ua[i] = sp->row[i].kind == UNKNOWN_INTERIOR ? lf->rhs[sp->row[i].index] : g[sp->row[i].index];
   PetscCall(VecRestoreArrayWrite(u, &ua));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MUMPS_SOLVE], 0, 0, 0, 0));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CondensedRecover(M2dCondensed *cs, Vec nu, Vec u)
-{
-  PetscFunctionBeginUser;
-  PetscCall(Recover(cs, nu, u, PETSC_TRUE));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CondensedRecoverUnloaded(M2dCondensed *cs, Vec nu, Vec u)
-{
-  PetscFunctionBeginUser;
-  PetscCall(Recover(cs, nu, u, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 

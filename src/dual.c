@@ -98,7 +98,7 @@ static PetscErrorCode DualSolveCondensed(M2dCondensed *cs, const M2dSolution *so
   PetscCall(CondensedJacobianFactor(cs, J));
   PetscCall(VecDuplicate(b, &nu));
   PetscCall(CondensedJacobianSolve(cs, b, nu));
-  PetscCall(CondensedRecoverUnloaded(cs, nu, z));
+  PetscCall(CondensedRecover(cs, PETSC_FALSE, nu, z));
   PetscCall(VecDestroy(&nu));
   PetscCall(MatDestroy(&J));
   PetscFunctionReturn(0);

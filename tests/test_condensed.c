@@ -159,10 +159,10 @@ static PetscErrorCode CheckRecover(MPI_Comm comm, M2dCondensed *cs, System *sy, 
     ur[i] = d->X[i];
     for (PetscInt k = 0; k < NC; k++) ur[i] -= d->X[i + (1 + k) * N] * nuv[k];
   }
-  PetscCall(CondensedRecover(cs, nu, u));
+  PetscCall(CondensedRecover(cs, PETSC_TRUE, nu, u));
   PetscCall(GatherVec(u, u1));
   PetscCall(VecSet(u, -1.0));
-  PetscCall(CondensedRecover(cs, nu, u));
+  PetscCall(CondensedRecover(cs, PETSC_TRUE, nu, u));
   PetscCall(GatherVec(u, u2));
   Check(comm, RelDiff(N, u1, ur) < 1e-10, "%s: u(nu) = K_g^-1 (f - C^T nu) equals the dense one (%.1e)", label, (double)RelDiff(N, u1, ur));
   Check(comm, RelDiff(N, u2, u1) == 0, "%s: a second recovery gives the same u", label);
@@ -290,7 +290,7 @@ static PetscErrorCode CheckNoLeak(MPI_Comm comm, System *sy, const M2dCondensedO
   PetscCall(VecSet(nu, 0.5));
   PetscCall(PetscMallocGetCurrentUsage(&m0));
   PetscCall(CondensedCreate(sy->Kg, sy->C, sy->Ct, sy->f, sy->gamma, o, &cs));
-  PetscCall(CondensedRecover(cs, nu, u));
+  PetscCall(CondensedRecover(cs, PETSC_TRUE, nu, u));
   PetscCall(CondensedDestroy(&cs));
   PetscCall(PetscMallocGetCurrentUsage(&m1));
   Check(comm, tracked && m1 == m0, "create, recover, destroy: %g bytes of PETSc memory left (tracked: %s)", (double)(m1 - m0), tracked ? "yes" : "no, run with -malloc_debug");
