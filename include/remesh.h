@@ -29,8 +29,11 @@ typedef enum {
   M2D_QUADS_SUBDIVIDE = 0, /* triangles at 2h, Blossom recombination, every cell split
                               into quads (Mesh.SubdivisionAlgorithm 1): all quads, always */
   M2D_QUADS_FULLQUAD  = 1, /* gmsh's Blossom full-quad recombination (RecombinationAlgorithm 3) */
-  M2D_QUADS_BLOSSOM   = 2  /* Blossom recombination at h, no split: fewest cells, but a
+  M2D_QUADS_BLOSSOM   = 2, /* Blossom recombination at h, no split: fewest cells, but a
                               triangle may be left (then M2dRemesh fails) */
+  M2D_QUADS_SIMPLE    = 3  /* as subdivide with gmsh's simple recombination: Blossom's
+                              time grows faster than the mesh (minutes past ~3e5
+                              nodes), this one's does not; slightly worse shapes */
 } M2dRemeshQuads;
 
 typedef struct {

@@ -144,7 +144,7 @@ static int CheckInput(Ctx *c, const M2dRemeshInput *in)
   if (!in->prev && !in->hnode && !in->hcell) return 0;
   if (!in->prev || !in->prev->nquad || !!in->hnode == !!in->hcell) return Fail(c, "a size field needs the previous mesh and exactly one of sizes per node, sizes per cell");
   if (in->hmin < 0 || in->hmax < 0 || (in->hmax > 0 && in->hmin > in->hmax)) return Fail(c, "size clamp [%g, %g] is not valid", in->hmin, in->hmax);
-  if (in->quads < M2D_QUADS_SUBDIVIDE || in->quads > M2D_QUADS_BLOSSOM) return Fail(c, "unknown quad algorithm %d", (int)in->quads);
+  if (in->quads < M2D_QUADS_SUBDIVIDE || in->quads > M2D_QUADS_SIMPLE) return Fail(c, "unknown quad algorithm %d", (int)in->quads);
   {
     long n = in->hnode ? in->prev->nnode : in->prev->nquad;
     const double *h = in->hnode ? in->hnode : in->hcell;
@@ -258,6 +258,12 @@ static double SizeCallback(int dim, int tag, double x, double y, double z, void 
   return d->fac * h;
 }
 
+/* every cell split into quads after the recombination (Mesh.SubdivisionAlgorithm 1) */
+static int Splits(M2dRemeshQuads quads)
+{
+  return quads == M2D_QUADS_SUBDIVIDE || quads == M2D_QUADS_SIMPLE;
+}
+
 /* The field as gmsh's mesh-size callback, and every other size source off: gmsh
  * takes the smallest of the callback, the background field, point sizes,
  * curvature and the model size, so the .geo's own field is replaced by a
@@ -266,7 +272,7 @@ static int SetSizeField(Ctx *c, const M2dRemeshInput *in, Driver *d)
 {
   int ierr = 0, field;
   /* subdivision splits each triangle edge in two: triangles at 2h give quads at h */
-  d->fac = in->quads == M2D_QUADS_SUBDIVIDE ? 2 : 1;
+  d->fac = Splits(in->quads) ? 2 : 1;
   if (M2dRemeshFieldCreate(in->prev, in->hnode, in->hcell, in->hmin, in->hmax, &d->field)) return Fail(c, "out of memory for the size field");
   if (BuildDriver(c, d)) return 1;
   field = G.gmshModelMeshFieldAdd("MathEval", -1, &ierr);
@@ -276,7 +282,7 @@ static int SetSizeField(Ctx *c, const M2dRemeshInput *in, Driver *d)
   if (ierr || GmshError(c, ierr, "to set the size field")) return 1;
   return SetOption(c, "Mesh.MeshSizeFromPoints", 0) || SetOption(c, "Mesh.MeshSizeFromCurvature", 0) || SetOption(c, "Mesh.MeshSizeExtendFromBoundary", 0) || SetOption(c, "Mesh.MeshSizeFactor", 1) ||
          SetOption(c, "Mesh.MeshSizeMin", 0) || SetOption(c, "Mesh.MeshSizeMax", 1e22) || SetOption(c, "Mesh.ElementOrder", 1) || SetOption(c, "Mesh.Algorithm", 6) || SetOption(c, "Mesh.RecombineAll", 1) ||
-         SetOption(c, "Mesh.RecombinationAlgorithm", in->quads == M2D_QUADS_FULLQUAD ? 3 : 1) || SetOption(c, "Mesh.SubdivisionAlgorithm", in->quads == M2D_QUADS_SUBDIVIDE ? 1 : 0);
+         SetOption(c, "Mesh.RecombinationAlgorithm", in->quads == M2D_QUADS_FULLQUAD ? 3 : in->quads == M2D_QUADS_SIMPLE ? 0 : 1) || SetOption(c, "Mesh.SubdivisionAlgorithm", Splits(in->quads) ? 1 : 0);
 }
 
 /* ---------- the mesh out of gmsh ---------- */

@@ -285,7 +285,7 @@ static void TestPatchField(void)
   if (M2dRemeshFieldCreate(&prev, h, NULL, 0, 0, &f)) return;
   want = Cells(f, 0, 0.25, 0, 0.25) / Cells(f, 0.5, 1, 0.25, 0.5);
   M2dRemeshFieldDestroy(&f);
-  for (int quads = M2D_QUADS_SUBDIVIDE; quads <= M2D_QUADS_BLOSSOM; quads++) {
+  for (int quads = M2D_QUADS_SUBDIVIDE; quads <= M2D_QUADS_SIMPLE; quads++) {
     in.quads = (M2dRemeshQuads)quads;
     if (M2dRemesh(&in, &m, &st, err, sizeof(err))) {
       CHECK(0, "patch with a field, quads %d: %s", quads, err);

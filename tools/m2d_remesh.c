@@ -1,6 +1,6 @@
 /* m2d_remesh - the remeshing engine (remesh.h) from the command line, to measure it
  * and to make meshes from a size field without the solver:
- *   m2d_remesh GEO [-setnumber NAME VALUE]... [-o OUT.msh] [-quads subdivide|fullquad|blossom]
+ *   m2d_remesh GEO [-setnumber NAME VALUE]... [-o OUT.msh] [-quads subdivide|fullquad|blossom|simple]
  *              [-from PREV.msh -radial HFINE R0 RATIO [CX CY]] [-repeat N] [-v]
  * -radial gives the size at the nodes of PREV: HFINE within R0 of (CX, CY) (default
  * the origin), growing by RATIO per element beyond: h = HFINE + (RATIO - 1)(r - R0);
@@ -18,7 +18,7 @@
 
 static int Usage(void)
 {
-  fprintf(stderr, "usage: m2d_remesh GEO [-setnumber NAME VALUE]... [-o OUT.msh] [-quads subdivide|fullquad|blossom] [-from PREV.msh -radial HFINE R0 RATIO [CX CY]] [-repeat N] [-v]\n");
+  fprintf(stderr, "usage: m2d_remesh GEO [-setnumber NAME VALUE]... [-o OUT.msh] [-quads subdivide|fullquad|blossom|simple] [-from PREV.msh -radial HFINE R0 RATIO [CX CY]] [-repeat N] [-v]\n");
   return 2;
 }
 
@@ -49,6 +49,7 @@ int main(int argc, char **argv)
       if (!strcmp(argv[i], "subdivide")) in.quads = M2D_QUADS_SUBDIVIDE;
       else if (!strcmp(argv[i], "fullquad")) in.quads = M2D_QUADS_FULLQUAD;
       else if (!strcmp(argv[i], "blossom")) in.quads = M2D_QUADS_BLOSSOM;
+      else if (!strcmp(argv[i], "simple")) in.quads = M2D_QUADS_SIMPLE;
       else return Usage();
     } else if (!strcmp(argv[i], "-from") && i + 1 < argc) from = argv[++i];
     else if (!strcmp(argv[i], "-radial") && i + 3 < argc && nrad < MAXRAD) {
