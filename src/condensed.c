@@ -121,6 +121,45 @@ static PetscErrorCode InterfaceEliminateSeparator(M2dCondensed *cs, const PetscS
   PetscFunctionReturn(0);
 }
 
+/* bytes this node has for new allocations (MemAvailable; M2D_TEST_MEMORY_MB
+ * overrides it for the tests), or -1 when unknown */
+static double AvailableBytes(void)
+{
+  const char *t = getenv("M2D_TEST_MEMORY_MB");
+  FILE       *f;
+  char        line[256];
+  double      kb = -1;
+
+  if (t) return 1048576.0 * atof(t);
+  if (!(f = fopen("/proc/meminfo", "r"))) return -1;
+  while (fgets(line, sizeof(line), f))
+    if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
+  fclose(f);
+  return kb < 0 ? -1 : 1024 * kb;
+}
+
+/* The dense interface (G = separator rows + multipliers unknowns, on every
+ * rank) peaks at about three G x G arrays per rank (MUMPS' Schur complement
+ * and S_G while it is assembled; then S_G, the multiplier block and the
+ * Jacobian's LU). Refused in one line before it is allocated when the ranks
+ * of this node would need more than it has: the kernel would kill the run
+ * without a word. */
+static PetscErrorCode CheckDenseMemory(const M2dCondensed *cs)
+{
+  PetscInt    G = cs->split.nsep + cs->split.nmult;
+  double      need = 3.0 * sizeof(PetscScalar) * (double)G * (double)G, have = AvailableBytes();
+  MPI_Comm    node;
+  PetscMPIInt pernode;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_split_type(cs->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_size(node, &pernode));
+  PetscCallMPI(MPI_Comm_free(&node));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &have, 1, MPI_DOUBLE, MPI_MIN, cs->comm));
+  PetscCheck(have < 0 || need * pernode <= have, cs->comm, PETSC_ERR_MEM, "-kkt_path condensed: the dense interface of %" PetscInt_FMT " unknowns (%" PetscInt_FMT " separator rows, %" PetscInt_FMT " contact multipliers) needs about %.3g MB on each of the %d ranks of this node, more than the %.3g MB it has free; use -kkt_path iterative (sparse in the multipliers) or fewer candidate contact nodes", G, cs->split.nsep, cs->split.nmult, need / 1048576, (int)pernode, have / 1048576);
+  PetscFunctionReturn(0);
+}
+
 /* MUMPS' condensation of [f; 0]: every rank eliminates its interior, the
  * interface right-hand side g is summed over the ranks, the separator is
  * eliminated, z = L^-1 g_s (kept for the expansions), and what is left on
@@ -194,6 +233,7 @@ PetscErrorCode CondensedCreate(Mat Kg, Mat C, Mat Ct, Vec f, PetscReal gamma, co
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_COND_ORDER], 0, 0, 0, 0));
   N = cs->split.nmult;
   PetscCall(PetscInfo(NULL, "interface: %" PetscInt_FMT " separator rows, %" PetscInt_FMT " multipliers; this rank: %" PetscInt_FMT " interior rows\n", cs->split.nsep, N, cs->split.ninterior));
+  PetscCall(CheckDenseMemory(cs));
   PetscCall(FactorLocal(cs, opt, &S));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_INTERFACE], 0, 0, 0, 0));
   PetscCall(InterfaceAssemble(cs, S, &SG));
