@@ -138,16 +138,27 @@ static double AvailableBytes(void)
   return kb < 0 ? -1 : 1024 * kb;
 }
 
+/* bytes shown in MB below 1 GB, else in GB */
+static double Unit(double bytes)
+{
+  return bytes < 1073741824.0 ? 1048576.0 : 1073741824.0;
+}
+
+static const char *UnitName(double bytes)
+{
+  return bytes < 1073741824.0 ? "MB" : "GB";
+}
+
 /* The dense interface (G = separator rows + multipliers unknowns, on every
- * rank) peaks at about three G x G arrays per rank (MUMPS' Schur complement
- * and S_G while it is assembled; then S_G, the multiplier block and the
- * Jacobian's LU). Refused in one line before it is allocated when the ranks
- * of this node would need more than it has: the kernel would kill the run
- * without a word. */
+ * rank) peaks at about six G x G arrays per rank (measured: 20,510
+ * multipliers on one rank, 19.9 GB = 5.9 x 8 G^2; MUMPS' Schur front and its
+ * copy, S_G, the multiplier block, the Jacobian's rows and LU). Refused in one
+ * line before it is allocated when the ranks of this node would need more
+ * than it has: the kernel would kill the run without a word. */
 static PetscErrorCode CheckDenseMemory(const M2dCondensed *cs)
 {
   PetscInt    G = cs->split.nsep + cs->split.nmult;
-  double      need = 3.0 * sizeof(PetscScalar) * (double)G * (double)G, have = AvailableBytes();
+  double      need = 6.0 * sizeof(PetscScalar) * (double)G * (double)G, have = AvailableBytes();
   MPI_Comm    node;
   PetscMPIInt pernode;
 
@@ -156,7 +167,7 @@ static PetscErrorCode CheckDenseMemory(const M2dCondensed *cs)
   PetscCallMPI(MPI_Comm_size(node, &pernode));
   PetscCallMPI(MPI_Comm_free(&node));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &have, 1, MPI_DOUBLE, MPI_MIN, cs->comm));
-  PetscCheck(have < 0 || need * pernode <= have, cs->comm, PETSC_ERR_MEM, "-kkt_path condensed: the dense interface of %" PetscInt_FMT " unknowns (%" PetscInt_FMT " separator rows, %" PetscInt_FMT " contact multipliers) needs about %.3g MB on each of the %d ranks of this node, more than the %.3g MB it has free; use -kkt_path iterative (sparse in the multipliers) or fewer candidate contact nodes", G, cs->split.nsep, cs->split.nmult, need / 1048576, (int)pernode, have / 1048576);
+  PetscCheck(have < 0 || need * pernode <= have, cs->comm, PETSC_ERR_MEM, "-kkt_path condensed: the dense interface of %" PetscInt_FMT " unknowns (%" PetscInt_FMT " separator rows, %" PetscInt_FMT " contact multipliers) needs about %.3g %s on each of the %d ranks of this node, more than the %.3g %s it has free; use -kkt_path full (MUMPS on the sparse KKT matrix) or -kkt_path iterative", G, cs->split.nsep, cs->split.nmult, need / Unit(need), UnitName(need), (int)pernode, have / Unit(have), UnitName(have));
   PetscFunctionReturn(0);
 }
 
