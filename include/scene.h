@@ -112,6 +112,7 @@ typedef struct {
   M2dKKTMat        kkt_mat;
   M2dKKTPath       kkt_path;     /* active-set solves: full, condensed (condensed.h) or iterative (iterative.h) */
   PetscReal        kkt_augment;  /* augmented-Lagrangian weight on the K block (0: off) */
+  PetscInt         kkt_condensed_max; /* default path: condensed up to this many non-mortar edges, full past it (solver.h) */
   M2dOrdering      kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
   PetscBool        kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */
   PetscInt         icntl4, icntl7, icntl8, icntl14, icntl58; /* condensed path's MUMPS ICNTL(n) */

@@ -3,7 +3,8 @@
  * The path is chosen in one place, M2dSolverChoosePath, from the scene and the
  * options database: no contact pair -> linear; -contact_unilateral 0 -> tied;
  * unilateral -> condensed (default) or full (-kkt_path full, or what the
- * condensed path cannot serve: -kkt_mat nest, -snes_type vinewtonrsls). */
+ * condensed path cannot serve: -kkt_mat nest, -snes_type vinewtonrsls, or
+ * does poorly: a contact surface past -kkt_condensed_max edges). */
 #ifndef M2D_SOLVER_H
 #define M2D_SOLVER_H
 #include "activeset.h"
@@ -20,9 +21,13 @@ typedef struct {
   PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
 } M2dSolution;
 
-/* The path for scene s; sets s->kkt_augment where the path needs it and says
- * so when it overrides -kkt_path. Collective on comm (prints on rank 0). */
-PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *path);
+/* The path for scene s on mesh m (NULL: not read yet); sets s->kkt_augment
+ * where the path needs it and says so when it overrides -kkt_path: without
+ * -kkt_path the condensed path gives way to the full one past
+ * -kkt_condensed_max non-mortar edges (its dense interface costs O(N^3) per
+ * step; the default 8,000 is the crossing the N^3 scaling of README S5's
+ * measurements puts it at). Collective on comm (prints on rank 0). */
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path);
 /* The one-line name of a path (summary key kkt_path). Not collective. */
 const char    *M2dSolverPathName(M2dSolverPath path);
 /* Solve pb on path; sol's vectors are created here and freed by

@@ -37,7 +37,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
     char save[PETSC_MAX_PATH_LEN];
     PetscCall(MeshReadOptions(comm, save, sizeof(save)));
   }
-  PetscCall(M2dSolverChoosePath(comm, s, &path));
+  PetscCall(M2dSolverChoosePath(comm, s, NULL, &path));
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
   PetscCall(AdaptReadOptions(comm, s, &ao));

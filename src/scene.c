@@ -248,6 +248,7 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_8", "condensed path's MUMPS ICNTL(8): scaling, -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8, &s->icntl8, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_14", "condensed path's MUMPS ICNTL(14): working-space increase in percent, >= 0", s->icntl14, &s->icntl14, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_58", "condensed path's MUMPS ICNTL(58): symbolic factorization, 1 or 2", s->icntl58, &s->icntl58, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-kkt_condensed_max", "without -kkt_path: the condensed path up to this many non-mortar edges, the full path past it", s->kkt_condensed_max, &s->kkt_condensed_max, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-kkt_augment", "weight w of K + w s C^T C, >= 0 (0: off; the condensed path takes 1)", s->kkt_augment, &s->kkt_augment, NULL));
   PetscFunctionReturn(0);
 }
@@ -271,7 +272,7 @@ static PetscErrorCode Defaults(M2dScene *s)
     .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
     .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0},
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
-    .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE,
+    .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
     .write_vtu = PETSC_TRUE, .write_hdf5 = PETSC_TRUE, .outdir = "output", .outname = "solution",
   };
@@ -291,6 +292,7 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
   for (size_t i = 0; i < sizeof(scal) / sizeof(scal[0]); i++) ok = (PetscBool)(ok || s->icntl8 == scal[i]);
   PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_8: %" PetscInt_FMT " is not a scaling -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8);
   PetscCheck(s->icntl14 >= 0, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_14: %" PetscInt_FMT " must be >= 0 (a percentage)", s->icntl14);
+  PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   PetscCheck(s->icntl58 == 1 || s->icntl58 == 2, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_58: %" PetscInt_FMT " must be 1 or 2", s->icntl58);
   PetscFunctionReturn(0);
 }

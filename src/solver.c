@@ -19,7 +19,37 @@ static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *path)
+/* edges of the non-mortar surface in m (summed over the ranks' label points) */
+static PetscErrorCode CandidateEdges(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, PetscInt *n)
+{
+  IS is;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshGetGroupIS(m, s->contact_nm, "-contact_nonmortar", &is));
+  PetscCall(ISGetLocalSize(is, n));
+  PetscCall(ISDestroy(&is));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, n, 1, MPIU_INT, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+/* the default condensed path, or the full one for a long contact surface */
+static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
+{
+  PetscInt  n = 0;
+  PetscBool given;
+
+  PetscFunctionBeginUser;
+  *path = M2D_PATH_CONDENSED;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
+  if (m && !given) PetscCall(CandidateEdges(comm, s, m, &n));
+  if (n > s->kkt_condensed_max) {
+    *path = M2D_PATH_FULL;
+    PetscCall(PetscPrintf(comm, "active set: -kkt_path full (%" PetscInt_FMT " non-mortar edges, more than -kkt_condensed_max %" PetscInt_FMT ": the condensed path's dense interface would cost O(N^3) a step)\n", n, s->kkt_condensed_max));
+  } else if (s->kkt_augment == 0) s->kkt_augment = 1.0; /* the condensed path factors K + g C^T C */
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
 {
   char      st[64];
   PetscBool set, vi;
@@ -36,10 +66,7 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, M2dSolverPath *pa
     if (s->kkt_mat == M2D_KKT_NEST || vi) {
       *path = M2D_PATH_FULL;
       PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
-    } else {
-      *path = M2D_PATH_CONDENSED;
-      if (s->kkt_augment == 0) s->kkt_augment = 1.0; /* the condensed path factors K + g C^T C */
-    }
+    } else PetscCall(CondensedOrFull(comm, s, m, path));
   }
   PetscFunctionReturn(0);
 }

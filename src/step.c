@@ -16,7 +16,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   t[M2D_STAGE_MESH] = M2dWallTime() - t[M2D_STAGE_MESH];
   PetscCall(PetscLogStagePop());
 
-  PetscCall(M2dSolverChoosePath(comm, &st->pb.s, &path));
+  PetscCall(M2dSolverChoosePath(comm, &st->pb.s, &st->pb.mesh, &path));
   PetscCall(ProblemSetUp(&st->pb, path, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
   if (warm && st->pb.has_contact) {
     PetscCall(PetscMalloc1(st->pb.contact.R.n + 1, &st->pb.warm));

@@ -17,7 +17,7 @@ depend on the units of the input.
     tolerance it states."""
 import os
 
-from m2d import check, mesh, opts, refusal_problems, run, solve, workdir
+from m2d import check, mesh, opts, read_json, refusal_problems, run, solve, workdir
 
 os.environ["OMPI_MCA_orte_execute_quiet"] = "1"
 S2 = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-output_vtu", "0", "-contact_monitor", "0"]
@@ -209,3 +209,16 @@ for ranks in (1, 2):
 for path in ("full", "iterative"):
     rc, out, err = run(HZ + ["-kkt_path", path, "-output_dir", workdir("trust_dense_mem_" + path)], check=False, env={"M2D_TEST_MEMORY_MB": "0.01"})
     check(rc == 0, "the same memory with -kkt_path %s (no dense interface): runs, exit %d" % (path, rc))
+# without -kkt_path, a contact surface longer than -kkt_condensed_max edges
+# takes the full path (the condensed path's dense interface costs O(N^3) a
+# step: README S5); -kkt_path condensed keeps it; the answer is the same.
+# Hertz level 1 has 56 non-mortar edges.
+paths = {}
+for tag, extra in (("default", []), ("auto_full", ["-kkt_condensed_max", "50"]), ("forced", ["-kkt_condensed_max", "50", "-kkt_path", "condensed"])):
+    d = workdir("trust_path_" + tag)
+    rc, out, err = run(HZ + extra + ["-output_dir", d, "-summary", os.path.join(d, "s.json")], check=False)
+    s = read_json(os.path.join(d, "s.json")) if rc == 0 else {}
+    paths[tag] = (s.get("kkt_path"), s.get("pressure_l2_rel"), "56 non-mortar edges, more than -kkt_condensed_max 50" in out)
+check(paths["default"][0] == "condensed" and paths["forced"][0] == "condensed" and paths["auto_full"][0] == "full" and paths["auto_full"][2] and not paths["default"][2],
+      "path by contact-surface length: default condensed, -kkt_condensed_max 50: full with its line, -kkt_path condensed: kept (%s)" % {k: v[0] for k, v in paths.items()})
+check(all(v[1] is not None and abs(v[1] - paths["default"][1]) < 1e-8 for v in paths.values()), "the same pressure error on every path: %s" % [v[1] for v in paths.values()])
