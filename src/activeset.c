@@ -351,7 +351,7 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(z));
   PetscCall(VecZeroEntries(as->lam));
-  if (as->vi || (how == 0 && !as->pb->warm)) PetscFunctionReturn(0);
+  if (how == 0 && !as->pb->warm && !as->vi) PetscFunctionReturn(0); /* VI: at least the closest nodes (below) */
   L = PetscSqrtReal(PetscSqr(ct->m.hi[0] - ct->m.lo[0]) + PetscSqr(ct->m.hi[1] - ct->m.lo[1])) * as->pb->units.L / as->pb->units.U;
   PetscCall(VecGetOwnershipRange(as->kkt->r, &lo, &hi));
   PetscCall(VecGetArrayRead(as->kkt->r, &r));
@@ -361,7 +361,10 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   for (PetscInt j = lo; j < hi; j++) {
     PetscReal g = PetscRealPart(r[j - lo]);
     PetscBool on = as->pb->warm ? as->pb->warm[j] : (PetscBool)(how == 2 || g / ct->R.w[j] <= gmin + 1e-6 * L);
-    l[j - lo]    = on ? as->c * PetscMax(g, 0) : 0;
+    /* the VI solver fixes a multiplier at its bound 0 while the gap is open:
+     * a positive start keeps the first set's rows (a body held only by the
+     * contact would otherwise be free in the first step) */
+    l[j - lo] = on ? as->c * PetscMax(g, as->vi ? 1e-6 * L * ct->R.w[j] : 0) : 0;
   }
   PetscCall(VecRestoreArray(as->lam, &l));
   PetscCall(VecRestoreArrayRead(as->kkt->r, &r));

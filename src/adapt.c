@@ -27,7 +27,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_dofs", "stop before a mesh would have more dofs than this", ao->max_dofs, &ao->max_dofs, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes are adapted to: energy (the energy-norm error) or contact (the contact pressure: dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (fast past ~3e5 nodes)", quads, 4, &ao->quads));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, num, &nnum));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
