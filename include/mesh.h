@@ -50,6 +50,9 @@ PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
  * of a group: edges for curves, vertices for points; the caller destroys *is.
  * Errors with a message naming `option` if the group does not exist. */
 PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
+/* Collective. The number of points of a group (its local points summed over
+ * the ranks); the same errors as MeshGetGroupIS. */
+PetscErrorCode MeshGroupSize(const M2dMesh *m, const char *name, const char *option, PetscInt *n);
 /* Collective. The stiffness matrix K (AIJ, block size 2, the DM's
  * local-to-global map), preallocated from the cells, plus the couplings within
  * each of the ngrp groups of global dofs gdofs[gptr[j] .. gptr[j+1]-1] (the

@@ -138,15 +138,11 @@ static double AvailableBytes(void)
   return kb < 0 ? -1 : 1024 * kb;
 }
 
-/* bytes shown in MB below 1 GB, else in GB */
-static double Unit(double bytes)
+/* bytes as a number of MB below 1 GB, else of GB (*unit) */
+static double InUnits(double bytes, const char **unit)
 {
-  return bytes < 1073741824.0 ? 1048576.0 : 1073741824.0;
-}
-
-static const char *UnitName(double bytes)
-{
-  return bytes < 1073741824.0 ? "MB" : "GB";
+  *unit = bytes < 1073741824.0 ? "MB" : "GB";
+  return bytes / (bytes < 1073741824.0 ? 1048576.0 : 1073741824.0);
 }
 
 /* The dense interface (G = separator rows + multipliers unknowns, on every
@@ -161,13 +157,17 @@ static PetscErrorCode CheckDenseMemory(const M2dCondensed *cs)
   double      need = 6.0 * sizeof(PetscScalar) * (double)G * (double)G, have = AvailableBytes();
   MPI_Comm    node;
   PetscMPIInt pernode;
+  const char *uneed, *uhave;
+  double      vneed, vhave;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_split_type(cs->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
   PetscCallMPI(MPI_Comm_size(node, &pernode));
   PetscCallMPI(MPI_Comm_free(&node));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &have, 1, MPI_DOUBLE, MPI_MIN, cs->comm));
-  PetscCheck(have < 0 || need * pernode <= have, cs->comm, PETSC_ERR_MEM, "-kkt_path condensed: the dense interface of %" PetscInt_FMT " unknowns (%" PetscInt_FMT " separator rows, %" PetscInt_FMT " contact multipliers) needs about %.3g %s on each of the %d ranks of this node, more than the %.3g %s it has free; use -kkt_path full (MUMPS on the sparse KKT matrix) or -kkt_path iterative", G, cs->split.nsep, cs->split.nmult, need / Unit(need), UnitName(need), (int)pernode, have / Unit(have), UnitName(have));
+  vneed = InUnits(need, &uneed);
+  vhave = InUnits(have, &uhave);
+  PetscCheck(have < 0 || need * pernode <= have, cs->comm, PETSC_ERR_MEM, "-kkt_path condensed: the dense interface of %" PetscInt_FMT " unknowns (%" PetscInt_FMT " separator rows, %" PetscInt_FMT " contact multipliers) needs about %.3g %s on each of the %d ranks of this node, more than the %.3g %s it has free; use -kkt_path full (MUMPS on the sparse KKT matrix) or -kkt_path iterative", G, cs->split.nsep, cs->split.nmult, vneed, uneed, (int)pernode, vhave, uhave);
   PetscFunctionReturn(0);
 }
 

@@ -397,6 +397,18 @@ PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *op
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode MeshGroupSize(const M2dMesh *m, const char *name, const char *option, PetscInt *n)
+{
+  IS is;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshGetGroupIS(m, name, option, &is));
+  PetscCall(ISGetLocalSize(is, n));
+  PetscCall(ISDestroy(&is));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, n, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
+  PetscFunctionReturn(0);
+}
+
 void MeshCellCoordinates(const M2dMesh *m, const PetscScalar *a, PetscSection csec, PetscInt c, PetscReal xy[8])
 {
   for (PetscInt k = 0; k < 4; k++) {

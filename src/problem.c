@@ -10,14 +10,10 @@
 /* a physical group that exists but holds nothing would silently do nothing */
 static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const M2dMesh *m, const char *group, const char *opt)
 {
-  IS       is;
   PetscInt n;
 
   PetscFunctionBeginUser;
-  PetscCall(MeshGetGroupIS(m, group, opt, &is));
-  PetscCall(ISGetLocalSize(is, &n));
-  PetscCall(ISDestroy(&is));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCall(MeshGroupSize(m, group, opt, &n));
   PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' of mesh file(s) %s has no elements", opt, group, m->files);
   PetscFunctionReturn(0);
 }

@@ -292,7 +292,6 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
   for (size_t i = 0; i < sizeof(scal) / sizeof(scal[0]); i++) ok = (PetscBool)(ok || s->icntl8 == scal[i]);
   PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_8: %" PetscInt_FMT " is not a scaling -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8);
   PetscCheck(s->icntl14 >= 0, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_14: %" PetscInt_FMT " must be >= 0 (a percentage)", s->icntl14);
-  PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   PetscCheck(s->icntl58 == 1 || s->icntl58 == 2, comm, PETSC_ERR_USER_INPUT, "option -mat_mumps_icntl_58: %" PetscInt_FMT " must be 1 or 2", s->icntl58);
   PetscFunctionReturn(0);
 }
@@ -346,6 +345,7 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(!s->exact_p_set || s->exact_p > 0, comm, PETSC_ERR_USER_INPUT, "option -exact_p: %g must be > 0 (auto: the first -pressure)", (double)s->exact_p);
   PetscCheck(s->mms_amplitude != 0, comm, PETSC_ERR_USER_INPUT, "option -mms_amplitude: must not be 0");
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
+  PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
   s->hertz_radius = s->hertz_nradius == 2 ? s->hertz_radii[0] * s->hertz_radii[1] / (s->hertz_radii[0] + s->hertz_radii[1]) : s->hertz_radii[0];
   PetscCall(CheckMumps(comm, s));

@@ -19,19 +19,6 @@ static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
   PetscFunctionReturn(0);
 }
 
-/* edges of the non-mortar surface in m (summed over the ranks' label points) */
-static PetscErrorCode CandidateEdges(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, PetscInt *n)
-{
-  IS is;
-
-  PetscFunctionBeginUser;
-  PetscCall(MeshGetGroupIS(m, s->contact_nm, "-contact_nonmortar", &is));
-  PetscCall(ISGetLocalSize(is, n));
-  PetscCall(ISDestroy(&is));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, n, 1, MPIU_INT, MPI_SUM, comm));
-  PetscFunctionReturn(0);
-}
-
 /* the default condensed path, or the full one for a long contact surface */
 static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
 {
@@ -41,7 +28,7 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
   PetscFunctionBeginUser;
   *path = M2D_PATH_CONDENSED;
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
-  if (m && !given) PetscCall(CandidateEdges(comm, s, m, &n));
+  if (m && !given) PetscCall(MeshGroupSize(m, s->contact_nm, "-contact_nonmortar", &n)); /* its edges */
   if (n > s->kkt_condensed_max) {
     *path = M2D_PATH_FULL;
     PetscCall(PetscPrintf(comm, "active set: -kkt_path full (%" PetscInt_FMT " non-mortar edges, more than -kkt_condensed_max %" PetscInt_FMT ": the condensed path's dense interface would cost O(N^3) a step)\n", n, s->kkt_condensed_max));
