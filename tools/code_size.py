@@ -15,16 +15,16 @@ import subprocess
 ap = argparse.ArgumentParser()
 ap.add_argument("--top", type=int, default=8)
 ap.add_argument("--max-lines", type=int, default=80)
-ap.add_argument("--rev", help="measure src/*.c of this git revision instead of the working tree")
+ap.add_argument("--rev", help="measure src/*/*.c of this git revision instead of the working tree")
 args = ap.parse_args()
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def sources():
-    """(name, text) of every src/*.c"""
+    """(name, text) of every src/*/*.c"""
     if not args.rev:
-        return [(os.path.relpath(p, root), open(p).read()) for p in sorted(glob.glob(os.path.join(root, "src", "*.c")))]
-    names = subprocess.run(["git", "-C", root, "ls-tree", "--name-only", args.rev, "src/"], capture_output=True, text=True, check=True).stdout.split()
+        return [(os.path.relpath(p, root), open(p).read()) for p in sorted(glob.glob(os.path.join(root, "src", "*", "*.c")))]
+    names = subprocess.run(["git", "-C", root, "ls-tree", "-r", "--name-only", args.rev, "src/"], capture_output=True, text=True, check=True).stdout.split()
     return [(n, subprocess.run(["git", "-C", root, "show", "%s:%s" % (args.rev, n)], capture_output=True, text=True, check=True).stdout) for n in names if n.endswith(".c")]
 
 
