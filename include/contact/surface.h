@@ -28,6 +28,8 @@ PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt
 /* Gather the edges of physical curve `group` from every rank. */
 PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s);
 PetscErrorCode SurfaceDestroy(M2dSurface *s);
-/* average outward normal of the edges at node i */
+/* outward unit normal at node i: the normals of the edges at i averaged with
+ * weights 1/length, which is the circle's normal when the nodes lie on a circle
+ * (graded or not); on a straight surface the edges' own normal */
 void SurfaceNodeNormal(const M2dSurface *s, PetscInt i, PetscReal n[2]);
 #endif

@@ -214,22 +214,70 @@ static PetscErrorCode RowsFinish(RowSet *rs, M2dContactRows *R)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R)
+/* The direction of each non-mortar node's row: the bisector of the two
+ * surfaces' normals there, the non-mortar node's own (SurfaceNodeNormal,
+ * turned to face the mortar side) and the mortar surface's where the node
+ * projects, interpolated between the mortar nodes' normals. Both are
+ * continuous along the surfaces; the mortar edges' own normals (the report's
+ * eq. 9) jump from edge to edge, and a non-mortar side finer than the mortar
+ * side feels the jumps as waviness of the surface it is pressed on. The
+ * bisector is the normal of the interface once two bodies of one material
+ * have pressed each other flat, and the same whichever side is non-mortar (on
+ * Hertz's cylinder on a block it halves the converged pressure's distance
+ * from Hertz, docs/); on a straight interface it is the interface's normal,
+ * as before. The projection is read off the segments of the node's edges: xi
+ * is affine in zeta on each, so the segment nearest the node (in zeta) gives
+ * xi at the node, clamped to the mortar edge. Nodes without a segment get
+ * (0, 0) (they get no row). */
+static PetscErrorCode RowNormals(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscReal n[])
 {
-  RowSet rs;
+  PetscReal *dist, *mn, *nn;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(nm->nnode + 1, &dist, 2 * m->nnode + 1, &mn, 2 * nm->nnode + 1, &nn));
+  for (PetscInt i = 0; i < m->nnode; i++) SurfaceNodeNormal(m, i, &mn[2 * i]);
+  for (PetscInt i = 0; i < nm->nnode; i++) SurfaceNodeNormal(nm, i, &nn[2 * i]);
+  for (PetscInt i = 0; i < nm->nnode; i++) dist[i] = PETSC_MAX_REAL, n[2 * i] = n[2 * i + 1] = 0;
+  for (PetscInt k = 0; k < S->nseg; k++) {
+    const M2dSegment *sg = &S->seg[k];
+    const PetscInt   *em = &m->edge[2 * sg->m_edge];
+    for (int end = 0; end < 2; end++) { /* node `end` of the non-mortar edge sits at zeta = -1 or +1 */
+      PetscInt  i = nm->edge[2 * sg->nm_edge + end];
+      PetscReal z = end ? 1.0 : -1.0, d = z < sg->zeta[0] ? sg->zeta[0] - z : z > sg->zeta[1] ? z - sg->zeta[1] : 0, xi, l;
+      if (!(d < dist[i])) continue;
+      dist[i] = d;
+      xi      = sg->xi[0] + (sg->xi[1] - sg->xi[0]) * (z - sg->zeta[0]) / (sg->zeta[1] - sg->zeta[0]);
+      xi      = PetscMax(-1.0, PetscMin(1.0, xi));
+      for (int c = 0; c < 2; c++) n[2 * i + c] = 0.5 * (1 - xi) * mn[2 * em[0] + c] + 0.5 * (1 + xi) * mn[2 * em[1] + c];
+      l = PetscSqrtReal(n[2 * i] * n[2 * i] + n[2 * i + 1] * n[2 * i + 1]);
+      for (int c = 0; c < 2 && l > 0; c++) n[2 * i + c] = n[2 * i + c] / l - nn[2 * i + c];
+      l = PetscSqrtReal(n[2 * i] * n[2 * i] + n[2 * i + 1] * n[2 * i + 1]);
+      if (l > 0) n[2 * i] /= l, n[2 * i + 1] /= l;
+    }
+  }
+  PetscCall(PetscFree3(dist, mn, nn));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R)
+{
+  RowSet     rs;
+  PetscReal *n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(2 * nm->nnode + 1, &n));
+  PetscCall(RowNormals(nm, m, S, n));
   PetscCall(RowsStart(nm->nnode, &rs));
   for (PetscInt k = 0; k < S->nseg; k++) {
-    const M2dSegment   *s = &S->seg[k];
-    const PetscReal *n = &m->normal[2 * s->m_edge];
-    const PetscInt  *en = &nm->edge[2 * s->nm_edge], *em = &m->edge[2 * s->m_edge];
-    PetscReal        D[4], M[4];
+    const M2dSegment *s  = &S->seg[k];
+    const PetscInt   *en = &nm->edge[2 * s->nm_edge], *em = &m->edge[2 * s->m_edge];
+    PetscReal         D[4], M[4];
     MortarSegmentDM(nm, s, basis, D, M);
     for (int i = 0; i < 2; i++) {
+      const PetscReal *nj = &n[2 * en[i]];
       for (int j = 0; j < 2; j++) {
-        PetscCall(RowAddNode(&rs, en[i], nm, en[j], D[2 * i + j], n, &nm->x[2 * en[i]]));
-        PetscCall(RowAddNode(&rs, en[i], m, em[j], -M[2 * i + j], n, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], nm, en[j], D[2 * i + j], nj, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], m, em[j], -M[2 * i + j], nj, &nm->x[2 * en[i]]));
       }
       rs.w[en[i]] += D[2 * i] + D[2 * i + 1];
     }
@@ -241,6 +289,7 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
     rs.keep[i] = (PetscBool)(rs.w[i] > 1e-10 * support);
   }
   PetscCall(RowsFinish(&rs, R));
+  PetscCall(PetscFree(n));
   PetscFunctionReturn(0);
 }
 

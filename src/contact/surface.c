@@ -58,9 +58,9 @@ void SurfaceNodeNormal(const M2dSurface *s, PetscInt i, PetscReal n[2])
 {
   PetscReal l;
   n[0] = n[1] = 0;
-  for (PetscInt k = s->n2e_ptr[i]; k < s->n2e_ptr[i + 1]; k++) {
-    n[0] += s->normal[2 * s->n2e[k]];
-    n[1] += s->normal[2 * s->n2e[k] + 1];
+  for (PetscInt k = s->n2e_ptr[i]; k < s->n2e_ptr[i + 1]; k++) { /* weights 1/length: exact on a circle */
+    n[0] += s->normal[2 * s->n2e[k]] / s->len[s->n2e[k]];
+    n[1] += s->normal[2 * s->n2e[k] + 1] / s->len[s->n2e[k]];
   }
   l = PetscSqrtReal(n[0] * n[0] + n[1] * n[1]);
   if (l > 0) {
