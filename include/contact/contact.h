@@ -56,6 +56,23 @@ PetscErrorCode ContactStateDestroy(M2dContactState *st);
  * (positions compared in user units: c's surfaces are in reference units,
  * unscaled by u->L). mask: one per multiplier, every rank. Not collective. */
 PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[]);
+/* Pressure ripple after ContactResults: the largest deviation of an interior
+ * active node's pressure from the linear interpolation (along the surface) of
+ * its two neighbours' pressures, over the peak pressure; interior: three active
+ * nodes on each side along the non-mortar surface (the zone's own edge, where
+ * p ~ sqrt(a - x), is left out). *ninterior: how many nodes were measured
+ * (0: *ripple = 0). Not collective (every rank has the results). */
+PetscErrorCode ContactRipple(const M2dContact *c, PetscReal *ripple, PetscInt *ninterior);
+/* The relative L2 error of the contact pressure along the non-mortar surface,
+ * estimated after ContactResults: where the pressure is smooth, the
+ * interpolation error of the parabola through each active node and its two
+ * neighbours (h^2 |p''| / 8); at each end of a contact zone, where p falls
+ * as sqrt(distance) to zero (non-conforming contact), the difference between
+ * the piecewise linear pressure and the square root fitted through the last
+ * three active nodes (p^2 linear in the arc length). Over the norm of the
+ * pressure. Effectivity against the scene's own fine solution on Hertz
+ * meshes 1.0-1.2 (docs/). Not collective. */
+PetscErrorCode ContactPressureEstimate(const M2dContact *c, PetscReal *est);
 /* Turn the interface results and the surfaces' coordinates and weights from
  * reference units into the user's (for the files). Not collective. */
 PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u);
