@@ -25,6 +25,7 @@ typedef struct {
   PetscInt  quads;     /* -adapt_quads (M2dRemeshQuads) */
   PetscInt  goal;      /* -adapt_goal: 0 energy, 1 contact */
   PetscReal grading;   /* -adapt_grading: largest growth of the size per element */
+  PetscReal growth;    /* -adapt_growth: dofs of the next mesh over this one's */
   PetscInt  nnumber;   /* -geo_setnumber NAME=VALUE,...: parameters of the .geo */
   char      number_name[M2D_ADAPT_MAX_NUMBERS][64];
   PetscReal number_value[M2D_ADAPT_MAX_NUMBERS];

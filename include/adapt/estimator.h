@@ -66,9 +66,10 @@ typedef struct {
   PetscReal sing_share;  /* cells with eta_K^2 >= sing_share x mean eta_K^2 are singular */
   PetscReal min_factor;  /* h_new/h_old is clamped to [min_factor, max_factor] */
   PetscReal max_factor;
+  PetscReal max_cells;   /* > 0: the expected cells are capped here, the target relaxed to fit */
 } M2dSizeFieldParams;
 
-/* order 2, order_sing 0.5, sing_share 10, factors [1/8, 2], target_rel 0.05 */
+/* order 2, order_sing 0.5, sing_share 10, factors [1/8, 2], target_rel 0.05, no cap */
 void M2dSizeFieldDefaults(M2dSizeFieldParams *p);
 
 /* New target size per local cell from the current sizes h[] and indicators

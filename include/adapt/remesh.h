@@ -44,7 +44,9 @@ typedef struct {
   /* Size field (all NULL: the .geo's own sizes): target quad edge length, in the
    * mesh's units, on a previous mesh of the same .geo (its quadphys tags tell the
    * bodies apart), either per node (linear on the two triangles of each quad) or
-   * per quad (constant in it). The field can be no sharper than prev's cells. */
+   * per quad (constant in it). The field can be no sharper than prev's cells.
+   * When prev names its physical surfaces (prev->phys), its quads are matched
+   * to the .geo's surfaces by those names; otherwise by tag. */
   const MshMesh *prev;
   const double  *hnode;   /* prev->nnode sizes, or NULL */
   const double  *hcell;   /* prev->nquad sizes, or NULL (exactly one of the two) */

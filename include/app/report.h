@@ -19,6 +19,8 @@ typedef struct {
   M2dSizeFieldParams size;     /* -estimator_target, -estimator_order_sing */
   PetscBool          target_set; /* -estimator_target given */
   PetscBool          goal_contact; /* -adapt_goal contact: sizes from the pressure's dual-weighted indicators (dual.h) */
+  PetscReal          max_dofs;     /* > 0 (the adaptive loop's cap): the size field's expected dofs at most this */
+  PetscReal          growth;       /* > 0 (the adaptive loop): and at most this times the mesh's */
 } M2dEstimatorOptions;
 
 /* the figures a run is judged by (-1 where not known) */
@@ -28,7 +30,11 @@ typedef struct {
   PetscReal        true_error_rel;  /* -exact: the energy-norm error, relative */
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
-  PetscReal        goal_estimate;   /* -adapt_goal contact: sum eta_K(u) eta_K(z) / (|u| |z|), else -1 */
+  PetscReal        pressure_ripple; /* contact: ContactRipple (contact.h), else -1 */
+  PetscInt         ripple_nodes;    /* the interior active nodes it was measured on */
+  PetscInt         active_nodes;    /* contact: the active non-mortar nodes */
+  PetscReal        pressure_local;    /* contact: ContactPressureEstimate, the pressure's own error */
+  PetscReal        pressure_estimate; /* contact: that and the global part (report.c), else -1 */
 } M2dFigures;
 
 /* -error_estimate, -estimator_recovery, -estimator_target, -estimator_order_sing.

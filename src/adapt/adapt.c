@@ -4,6 +4,7 @@
 #include "remesh.h"
 #include "step.h"
 #include "util.h"
+#include <math.h>
 #include <string.h>
 
 PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOptions *ao)
@@ -20,6 +21,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   ao->max_dofs  = 1000000;
   ao->quads     = M2D_QUADS_SUBDIVIDE;
   ao->grading   = 1.2;
+  ao->growth    = 4;
   PetscOptionsBegin(comm, NULL, "Adaptive meshes", "");
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-adapt", "adapt the mesh of the scene's .geo (-geo) to the error estimate", ao->enabled, &ao->enabled));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_target", "stop when the relative error estimate is below this", ao->target, &ao->target, NULL));
@@ -27,6 +29,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_dofs", "stop before a mesh would have more dofs than this", ao->max_dofs, &ao->max_dofs, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes are adapted to: energy (the energy-norm error) or contact (the contact pressure: dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, num, &nnum));
   PetscOptionsEnd();
@@ -49,76 +52,69 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCheck(ao->target > 0 && ao->target < 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_target: %g must be in (0, 1)", (double)ao->target);
   PetscCheck(ao->max_steps >= 1 && ao->max_steps <= M2D_ADAPT_MAX_STEPS, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_steps: %" PetscInt_FMT " must be in [1, %d]", ao->max_steps, M2D_ADAPT_MAX_STEPS);
   PetscCheck(ao->grading >= 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_grading: %g must be >= 1", (double)ao->grading);
+  PetscCheck(ao->growth > 1 && ao->growth <= 64, comm, PETSC_ERR_USER_INPUT, "option -adapt_growth: %g must be in (1, 64] (the size field refines a cell at most 8 times per mesh)", (double)ao->growth);
   PetscCheck(ao->max_dofs >= 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_dofs: %" PetscInt_FMT " must be >= 1", ao->max_dofs);
   PetscCheck(!ao->enabled || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the scene's .geo (-geo FILE)");
   PetscFunctionReturn(0);
 }
 
-/* the previous mesh on rank 0, in the user's units, with the new size per
- * quad (the size field's h_new): what the remesher's size field is built on.
- * Quads carry the physical tag of their body's surface (bodytag). */
+/* The previous mesh on rank 0, with the new size per quad (the size field's
+ * h_new): what the remesher's size field is built on. Canonical: the same
+ * for the same mesh and sizes whatever the partition (1 or 2 ranks give the
+ * same meshes), because cells and vertices are numbered by their coordinates,
+ * not by the ranks' dof numbers. Coordinates and sizes in the user's units
+ * until GeoUnits turns them into the .geo's (-mesh_scale). Quads carry the
+ * physical tag of their body's surface (bodytag). */
 typedef struct {
   MshMesh  msh;
   double  *hcell;
+  PetscInt *cellbody;  /* body index per quad */
+  double   *vkey;      /* per vertex in id order: body, x, y (the sort key, for lookups) */
 } PrevMesh;
 
 static void PrevMeshFree(PrevMesh *p)
 {
   MshFree(&p->msh);
   free(p->hcell);
-  p->hcell = NULL;
+  free(p->cellbody);
+  free(p->vkey);
+  p->hcell    = NULL;
+  p->cellbody = NULL;
+  p->vkey     = NULL;
 }
 
-/* what each rank sends rank 0 about its cells and its owned vertices (all
- * doubles: one MPI datatype) */
+/* what each rank sends rank 0 about a cell (all doubles: one MPI datatype) */
 typedef struct {
-  double vert[4]; /* global vertex numbers */
+  double x[8]; /* corners, counter-clockwise, user units */
   double body;
-  double hnew;    /* the new size, user units */
+  double hnew; /* the new size, user units */
 } CellRecord;
-typedef struct {
-  double id, x, y; /* global vertex number, user coordinates */
-} VertexRecord;
 #define M2D_DOUBLES(T) ((int)(sizeof(T) / sizeof(double)))
 
-static PetscErrorCode PackRecords(const M2dStep *st, CellRecord *cr, VertexRecord *vr, PetscInt *nown)
+static PetscErrorCode PackRecords(const M2dStep *st, CellRecord *cr)
 {
   const M2dMesh     *m = &st->pb.mesh;
   PetscInt           nlc = m->cEnd - m->cStart;
-  PetscSection       gsec, cs;
+  PetscSection       cs;
   Vec                cl;
   const PetscScalar *ca;
   PetscReal         *h, L = st->pb.units.L;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetCoordinatesLocal(m->dm, &cl));
   PetscCall(DMGetCoordinateSection(m->dm, &cs));
   PetscCall(PetscMalloc1(nlc + 1, &h));
   PetscCall(M2dCellSizes(m, h));
+  PetscCall(VecGetArrayRead(cl, &ca));
   for (PetscInt c = 0; c < nlc; c++) {
-    for (int j = 0; j < 4; j++) {
-      PetscInt g;
-      PetscCall(PetscSectionGetOffset(gsec, m->cellverts[4 * c + j], &g));
-      cr[c].vert[j] = (double)((g < 0 ? -(g + 1) : g) / 2);
-    }
+    PetscReal xy[8];
+    MeshCellCoordinates(m, ca, cs, c + m->cStart, xy);
+    for (int k = 0; k < 8; k++) cr[c].x[k] = xy[k] * L; /* the same product as ContactToUserUnits' */
     cr[c].body = (double)m->cellbody[c];
     cr[c].hnew = st->sol.eta[M2D_ETA_FIELDS * c + 2] * h[c] * L; /* h_new / h, times h */
   }
-  PetscCall(PetscFree(h));
-  PetscCall(VecGetArrayRead(cl, &ca));
-  *nown = 0;
-  for (PetscInt v = m->vStart; v < m->vEnd; v++) {
-    PetscInt g, off;
-    PetscCall(PetscSectionGetOffset(gsec, v, &g));
-    if (g < 0) continue;
-    PetscCall(PetscSectionGetOffset(cs, v, &off));
-    vr[*nown].id = (double)(g / 2);
-    vr[*nown].x  = PetscRealPart(ca[off]) * L;
-    vr[*nown].y  = PetscRealPart(ca[off + 1]) * L;
-    (*nown)++;
-  }
   PetscCall(VecRestoreArrayRead(cl, &ca));
+  PetscCall(PetscFree(h));
   PetscFunctionReturn(0);
 }
 
@@ -146,44 +142,221 @@ static PetscErrorCode GatherDoubles(MPI_Comm comm, const double *mine, PetscInt 
   PetscFunctionReturn(0);
 }
 
-/* the previous mesh on rank 0 (user units), with the new size per quad and the
- * physical tag of each quad's body (bodytag) */
-static PetscErrorCode GatherPrevMesh(const M2dStep *st, const int bodytag[], PrevMesh *prev)
+/* lexicographic order of n doubles */
+static int CmpKey(const double *a, const double *b, int n)
 {
-  const M2dMesh *m = &st->pb.mesh;
-  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
-  PetscInt       nlc = m->cEnd - m->cStart, nown = 0, nc = 0, nv = 0;
-  CellRecord    *cr, *call;
-  VertexRecord  *vr, *vall;
-  MshMesh       *q = &prev->msh;
+  for (int k = 0; k < n; k++)
+    if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+  return 0;
+}
+
+/* cells by (body, centroid y, centroid x, corners); vertices by (body, x, y) */
+typedef struct {
+  double key[11];
+  long   i;
+} Keyed;
+static int CmpCellKey(const void *a, const void *b)
+{
+  return CmpKey(((const Keyed *)a)->key, ((const Keyed *)b)->key, 11);
+}
+static int CmpVertKey(const void *a, const void *b)
+{
+  return CmpKey(((const Keyed *)a)->key, ((const Keyed *)b)->key, 3);
+}
+
+/* rank 0: the canonical mesh from the gathered cells (see PrevMesh); its
+ * physical surfaces are the bodies (tag b + 1, named as the scene names them),
+ * which the remesher matches to the .geo's by name */
+static PetscErrorCode BuildPrevMesh(const CellRecord *cr, PetscInt nc, const M2dScene *s, PrevMesh *prev)
+{
+  MshMesh *q = &prev->msh;
+  Keyed   *ck, *vk;
+  long     nv = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc2(nlc + 1, &cr, m->vEnd - m->vStart + 1, &vr));
-  PetscCall(PackRecords(st, cr, vr, &nown));
-  PetscCall(GatherDoubles(comm, (double *)cr, nlc, M2D_DOUBLES(CellRecord), (double **)&call, &nc));
-  PetscCall(GatherDoubles(comm, (double *)vr, nown, M2D_DOUBLES(VertexRecord), (double **)&vall, &nv));
-  PetscCall(PetscFree2(cr, vr));
-  if (call) { /* rank 0 */
-    PetscCall(PetscMemzero(q, sizeof(*q)));
-    q->nnode    = m->nvert_global;
-    q->nquad    = nc;
-    q->xy       = (double *)malloc((size_t)(2 * q->nnode + 1) * sizeof(double));
-    q->quad     = (long *)malloc((size_t)(4 * nc + 1) * sizeof(long));
-    q->quadtag  = (long *)malloc((size_t)(nc + 1) * sizeof(long));
-    q->quadphys = (int *)malloc((size_t)(nc + 1) * sizeof(int));
-    prev->hcell = (double *)malloc((size_t)(nc + 1) * sizeof(double));
-    PetscCheck(q->xy && q->quad && q->quadtag && q->quadphys && prev->hcell, PETSC_COMM_SELF, PETSC_ERR_MEM, "out of memory gathering the mesh for remeshing");
-    for (PetscInt i = 0; i < nv; i++) q->xy[2 * (long)vall[i].id] = vall[i].x, q->xy[2 * (long)vall[i].id + 1] = vall[i].y;
-    for (PetscInt c = 0; c < nc; c++) {
-      for (int j = 0; j < 4; j++) q->quad[4 * c + j] = (long)call[c].vert[j];
-      q->quadtag[c]  = c + 1;
-      q->quadphys[c] = bodytag[(int)call[c].body];
-      prev->hcell[c] = call[c].hnew;
-    }
+  PetscCall(PetscMemzero(q, sizeof(*q)));
+  PetscCall(PetscMalloc2(nc + 1, &ck, 4 * nc + 1, &vk));
+  for (PetscInt c = 0; c < nc; c++) {
+    ck[c].key[0] = cr[c].body;
+    ck[c].key[1] = ck[c].key[2] = 0;
+    for (int k = 0; k < 4; k++) ck[c].key[1] += 0.25 * cr[c].x[2 * k + 1], ck[c].key[2] += 0.25 * cr[c].x[2 * k];
+    for (int k = 0; k < 8; k++) ck[c].key[3 + k] = cr[c].x[k];
+    ck[c].i = c;
   }
-  PetscCall(PetscFree(call));
-  PetscCall(PetscFree(vall));
+  qsort(ck, (size_t)nc, sizeof(Keyed), CmpCellKey);
+  for (PetscInt c = 0; c < nc; c++)
+    for (int k = 0; k < 4; k++) {
+      Keyed *v  = &vk[4 * c + k];
+      v->key[0] = cr[ck[c].i].body;
+      v->key[1] = cr[ck[c].i].x[2 * k];
+      v->key[2] = cr[ck[c].i].x[2 * k + 1];
+      v->i      = 4 * c + k; /* corner k of canonical cell c */
+    }
+  qsort(vk, (size_t)(4 * nc), sizeof(Keyed), CmpVertKey);
+  q->nquad       = nc;
+  q->xy          = (double *)malloc((size_t)(8 * nc + 1) * sizeof(double));
+  q->quad        = (long *)malloc((size_t)(4 * nc + 1) * sizeof(long));
+  q->quadtag     = (long *)malloc((size_t)(nc + 1) * sizeof(long));
+  q->quadphys    = (int *)malloc((size_t)(nc + 1) * sizeof(int));
+  prev->hcell    = (double *)malloc((size_t)(nc + 1) * sizeof(double));
+  prev->cellbody = (PetscInt *)malloc((size_t)(nc + 1) * sizeof(PetscInt));
+  prev->vkey     = (double *)malloc((size_t)(12 * nc + 1) * sizeof(double));
+  q->phys        = (MshPhysical *)calloc((size_t)s->nbody + 1, sizeof(MshPhysical));
+  if (!(q->xy && q->quad && q->quadtag && q->quadphys && prev->hcell && prev->cellbody && prev->vkey && q->phys)) {
+    PetscCall(PetscFree2(ck, vk));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "out of memory gathering the mesh for remeshing");
+  }
+  for (PetscInt k = 0; k < 4 * nc; k++) {
+    if (k == 0 || CmpVertKey(&vk[k], &vk[k - 1])) {
+      for (int d = 0; d < 3; d++) prev->vkey[3 * nv + d] = vk[k].key[d];
+      q->xy[2 * nv]     = vk[k].key[1];
+      q->xy[2 * nv + 1] = vk[k].key[2];
+      nv++;
+    }
+    q->quad[vk[k].i] = nv - 1;
+  }
+  q->nnode = nv;
+  for (PetscInt c = 0; c < nc; c++) {
+    q->quadtag[c]     = c + 1;
+    prev->cellbody[c] = (PetscInt)cr[ck[c].i].body;
+    q->quadphys[c]    = (int)prev->cellbody[c] + 1;
+    prev->hcell[c]    = cr[ck[c].i].hnew;
+  }
+  for (PetscInt b = 0; b < s->nbody; b++) {
+    q->phys[b].dim = 2;
+    q->phys[b].tag = (int)b + 1;
+    PetscCall(PetscStrncpy(q->phys[b].name, s->body[b].name, sizeof(q->phys[b].name)));
+  }
+  q->nphys = (int)s->nbody;
+  PetscCall(PetscFree2(ck, vk));
   PetscFunctionReturn(0);
+}
+
+/* the previous mesh on rank 0 (PrevMesh), with the new size per quad */
+static PetscErrorCode GatherPrevMesh(const M2dStep *st, PrevMesh *prev)
+{
+  const M2dMesh *m    = &st->pb.mesh;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
+  PetscInt       nlc = m->cEnd - m->cStart, nc = 0;
+  CellRecord    *cr, *call;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(nlc + 1, &cr));
+  PetscCall(PackRecords(st, cr));
+  PetscCall(GatherDoubles(comm, (double *)cr, nlc, M2D_DOUBLES(CellRecord), (double **)&call, &nc));
+  PetscCall(PetscFree(cr));
+  if (call) PetscCall(BuildPrevMesh(call, nc, st->pb.user, prev)); /* rank 0 */
+  PetscCall(PetscFree(call));
+  PetscFunctionReturn(0);
+}
+
+/* rank 0: vertex id of (body, x, y) in prev (exact coordinates), -1 if none */
+static long FindVertex(const PrevMesh *prev, PetscInt body, const PetscReal x[2])
+{
+  const double key[3] = {(double)body, x[0], x[1]};
+  long         lo = 0, hi = prev->msh.nnode - 1;
+  while (lo <= hi) {
+    long mid = (lo + hi) / 2;
+    int  c   = CmpKey(&prev->vkey[3 * mid], key, 3);
+    if (!c) return mid;
+    if (c < 0) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+/* vertex -> cells (CSR) of a mesh: vptr[nv + 1], vadj[4 nc] (caller frees both) */
+static PetscErrorCode VertexCells(const MshMesh *q, PetscInt **vptr, PetscInt **vadj)
+{
+  PetscInt nc = (PetscInt)q->nquad, nv = (PetscInt)q->nnode, *p, *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(nv + 1, &p));
+  PetscCall(PetscMalloc1(4 * nc + 1, &a));
+  for (PetscInt c = 0; c < 4 * nc; c++) p[q->quad[c] + 1]++;
+  for (PetscInt v = 0; v < nv; v++) p[v + 1] += p[v];
+  for (PetscInt c = 0; c < 4 * nc; c++) a[p[q->quad[c]]++] = c / 4;
+  for (PetscInt v = nv; v > 0; v--) p[v] = p[v - 1];
+  p[0]  = 0;
+  *vptr = p;
+  *vadj = a;
+  PetscFunctionReturn(0);
+}
+
+/* rank 0: the cell of prev that has surface edge e (user units) as a side, -1 if none */
+static PetscInt EdgeCell(const PrevMesh *prev, const PetscInt *vptr, const PetscInt *vadj, const M2dSurface *s, PetscInt e)
+{
+  long va = FindVertex(prev, s->body, &s->x[2 * s->edge[2 * e]]), vb = FindVertex(prev, s->body, &s->x[2 * s->edge[2 * e + 1]]);
+  if (va < 0 || vb < 0) return -1;
+  for (PetscInt k = vptr[va]; k < vptr[va + 1]; k++)
+    for (int j = 0; j < 4; j++)
+      if (prev->msh.quad[4 * vadj[k] + j] == vb) return vadj[k];
+  return -1;
+}
+
+/* Rank 0: sizes balanced across the contact interface. Where the two surfaces
+ * touch (a segment whose non-mortar nodes' gap is within the larger of the two
+ * cells' new sizes), the non-mortar cell takes the smaller of the two sizes
+ * and the mortar cell that divided by 1.3: a non-mortar side finer than the
+ * mortar side sees the mortar edges' facets as waviness of the surface it is
+ * pressed on, and its multipliers are then less tied down by the mortar side's
+ * displacements (a stiff non-mortar body on a soft mortar one, such as a punch
+ * on its foundation, showed spikes of 20% of the peak where the non-mortar
+ * side was locally 1.5 times finer; docs/); indicators that feed on such
+ * ripple would refine one side further. The gradation then carries the sizes
+ * into each body. c: the contact pair in the user's units (after
+ * ReportCompute; its reach still in reference units, L the length unit). */
+static PetscErrorCode Balance(PrevMesh *prev, const M2dContact *c, PetscReal L)
+{
+  M2dSegmentSet        own;
+  const M2dSegmentSet *S = &c->seg;
+  PetscInt            *vptr, *vadj, *cnm, *cm;
+  PetscReal           *gap, *h0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&own, sizeof(own)));
+  if (S->nseg == 0) { /* node-to-segment: the mortar segments tell where the surfaces face each other */
+    PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach * L, &own));
+    S = &own;
+  }
+  PetscCall(VertexCells(&prev->msh, &vptr, &vadj));
+  PetscCall(PetscMalloc3(c->nm.nedge + 1, &cnm, c->m.nedge + 1, &cm, c->nm.nnode + 1, &gap));
+  for (PetscInt e = 0; e < c->nm.nedge; e++) cnm[e] = EdgeCell(prev, vptr, vadj, &c->nm, e);
+  for (PetscInt e = 0; e < c->m.nedge; e++) cm[e] = EdgeCell(prev, vptr, vadj, &c->m, e);
+  for (PetscInt i = 0; i < c->nm.nnode; i++) gap[i] = PETSC_MAX_REAL;
+  for (PetscInt j = 0; j < c->R.n; j++) gap[c->R.node[j]] = PetscAbsReal(c->gap[j]);
+  PetscCall(PetscMalloc1(prev->msh.nquad + 1, &h0)); /* every pair from the sizes as they came: the order of the segments cannot matter */
+  PetscCall(PetscArraycpy(h0, prev->hcell, prev->msh.nquad));
+  for (PetscInt k = 0; k < S->nseg; k++) {
+    const M2dSegment *sg = &S->seg[k];
+    PetscInt          a = cnm[sg->nm_edge], b = cm[sg->m_edge];
+    PetscReal         g = PetscMin(gap[c->nm.edge[2 * sg->nm_edge]], gap[c->nm.edge[2 * sg->nm_edge + 1]]), h;
+    if (a < 0 || b < 0 || !(g <= PetscMax(h0[a], h0[b]))) continue;
+    h              = PetscMin(h0[a], h0[b]);
+    prev->hcell[a] = PetscMin(prev->hcell[a], h);
+    prev->hcell[b] = PetscMin(prev->hcell[b], h / 1.3);
+  }
+  PetscCall(PetscFree(h0));
+  PetscCall(PetscFree3(cnm, cm, gap));
+  PetscCall(PetscFree(vptr));
+  PetscCall(PetscFree(vadj));
+  PetscCall(SegmentSetDestroy(&own));
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0: every size rounded to 16 steps per octave (a factor 2^(1/16) =
+ * 1.044): the round-off by which 1 and 2 ranks, or two BLAS, differ cannot
+ * move a size, so gmsh gets the same field and makes the same mesh. */
+static void Quantize(PrevMesh *prev)
+{
+  for (long c = 0; c < prev->msh.nquad; c++) prev->hcell[c] = PetscPowReal(2.0, round(16 * PetscLog2Real(prev->hcell[c])) / 16);
+}
+
+/* Rank 0: coordinates and sizes from the user's units into the .geo's */
+static void GeoUnits(PrevMesh *prev, PetscReal scale)
+{
+  for (long i = 0; i < 2 * prev->msh.nnode; i++) prev->msh.xy[i] /= scale;
+  for (long c = 0; c < prev->msh.nquad; c++) prev->hcell[c] /= scale;
 }
 
 /* a binary heap of (size, cell) for the gradation sweep */
@@ -232,20 +405,15 @@ static void HeapPop(Heap *h, PetscReal *key, PetscInt *cell)
 static PetscErrorCode Grade(PrevMesh *prev, PetscReal g)
 {
   MshMesh   *q = &prev->msh;
-  PetscInt   nc = (PetscInt)q->nquad, nv = (PetscInt)q->nnode, *vptr, *vadj;
+  PetscInt   nc = (PetscInt)q->nquad, *vptr, *vadj;
   PetscReal *cen;
   Heap       hp;
   PetscBool *done;
 
   PetscFunctionBeginUser;
   if (!(g > 1) || nc == 0) PetscFunctionReturn(0);
-  PetscCall(PetscCalloc2(nv + 1, &vptr, 4 * nc + 1, &vadj));
+  PetscCall(VertexCells(q, &vptr, &vadj));
   PetscCall(PetscMalloc2(2 * nc + 1, &cen, nc + 1, &done));
-  for (PetscInt c = 0; c < 4 * nc; c++) vptr[q->quad[c] + 1]++;
-  for (PetscInt v = 0; v < nv; v++) vptr[v + 1] += vptr[v];
-  for (PetscInt c = 0; c < 4 * nc; c++) vadj[vptr[q->quad[c]]++] = c / 4;
-  for (PetscInt v = nv; v > 0; v--) vptr[v] = vptr[v - 1];
-  vptr[0] = 0;
   for (PetscInt c = 0; c < nc; c++) {
     cen[2 * c] = cen[2 * c + 1] = 0;
     for (int k = 0; k < 4; k++) cen[2 * c] += 0.25 * q->xy[2 * q->quad[4 * c + k]], cen[2 * c + 1] += 0.25 * q->xy[2 * q->quad[4 * c + k] + 1];
@@ -274,18 +442,20 @@ static PetscErrorCode Grade(PrevMesh *prev, PetscReal g)
   }
   PetscCall(PetscFree2(hp.key, hp.cell));
   PetscCall(PetscFree2(cen, done));
-  PetscCall(PetscFree2(vptr, vadj));
+  PetscCall(PetscFree(vptr));
+  PetscCall(PetscFree(vadj));
   PetscFunctionReturn(0);
 }
 
-/* rank 0: the .geo meshed by gmsh, with the previous mesh's size field from step 1 on */
-static PetscErrorCode Remesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao, const PrevMesh *prev, PetscInt step, MshMesh *msh, double *seconds)
+/* rank 0: the .geo meshed by gmsh, with the previous mesh's size field from
+ * step 1 on; *dofs (every rank): 2 x the mesh's nodes */
+static PetscErrorCode Remesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao, const PrevMesh *prev, PetscInt step, MshMesh *msh, double *seconds, PetscInt *dofs)
 {
   PetscMPIInt    rank;
   char           err[1024] = "";
   M2dRemeshStats stats;
   const char    *names[M2D_ADAPT_MAX_NUMBERS];
-  double         values[M2D_ADAPT_MAX_NUMBERS];
+  double         values[M2D_ADAPT_MAX_NUMBERS], n = 0;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -308,128 +478,269 @@ static PetscErrorCode Remesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOpt
       in.hcell = prev->hcell;
     }
     if (M2dRemesh(&in, msh, &stats, err, sizeof(err))) MshFree(msh);
-    else *seconds = stats.seconds_total;
+    else {
+      *seconds = stats.seconds_total;
+      n        = 2.0 * (double)msh->nnode;
+    }
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscCallMPI(MPI_Bcast(&n, 1, MPI_DOUBLE, 0, comm));
+  *dofs = (PetscInt)n;
   PetscFunctionReturn(0);
 }
 
-/* the physical tag of every body's surface in the remeshed .geo (rank 0) */
-static PetscErrorCode BodyTags(MPI_Comm comm, const M2dScene *s, const MshMesh *msh, int bodytag[])
-{
-  PetscMPIInt rank;
+/* why the loop stopped (the summary's adapt_stop) */
+typedef enum {
+  STOP_NONE,
+  STOP_TARGET,
+  STOP_STEPS,
+  STOP_CAP,
+  STOP_FIT
+} StopReason;
+static const char *const StopKey[]  = {"", "target", "max_steps", "max_dofs", "max_dofs"};
+static const char *const StopText[] = {"", "the estimate reached -adapt_target", "-adapt_max_steps meshes", "-adapt_max_dofs holds the mesh and the estimate no longer falls by 10%", "the next mesh does not fit under -adapt_max_dofs"};
 
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  for (PetscInt b = 0; b < s->nbody; b++) {
-    bodytag[b] = -1;
-    if (rank == 0)
-      for (int i = 0; i < msh->nphys; i++)
-        if (msh->phys[i].dim == 2 && !strcmp(msh->phys[i].name, s->body[b].name)) bodytag[b] = msh->phys[i].tag;
-  }
-  PetscFunctionReturn(0);
-}
-
-/* the estimate the loop stops on: the goal's when there is one */
-static PetscReal AdaptEstimate(const M2dStep *st)
+/* The estimate of the goal: the relative energy-norm error, or with
+ * -adapt_goal contact the relative L2 error of the contact pressure
+ * (ContactPressureEstimate): what the target, the best mesh and the progress
+ * are judged by */
+static PetscReal GoalEstimate(const M2dAdaptOptions *ao, const M2dStep *st)
 {
-  return st->fig.goal_estimate >= 0 ? st->fig.goal_estimate : st->fig.est.estimate_rel;
-}
-
-static void StepLine(MPI_Comm comm, PetscInt k, const M2dStep *st, double seconds)
-{
-  char known[128] = "";
-  if (st->fig.pressure_l2_rel >= 0) PetscSNPrintf(known, sizeof(known), ", pressure error %.3e", (double)st->fig.pressure_l2_rel);
-  else if (st->fig.true_error_rel >= 0) PetscSNPrintf(known, sizeof(known), ", error %.3e (effectivity %.3f)", (double)st->fig.true_error_rel, (double)st->fig.effectivity);
-  PetscPrintf(comm, "adapt step %" PetscInt_FMT ": %" PetscInt_FMT " dofs, estimate %.3e%s, %" PetscInt_FMT " active-set steps, %.3f s\n", k, 2 * st->pb.mesh.nvert_global, (double)AdaptEstimate(st), known, st->pb.has_contact ? st->sol.as.iterations : 0, seconds);
+  return ao->goal == 1 && st->fig.pressure_estimate >= 0 ? st->fig.pressure_estimate : st->fig.est.estimate_rel;
 }
 
 /* what the summary's "adapt" list keeps of each step */
 typedef struct {
-  PetscInt  dofs, iterations;
-  PetscReal estimate, pressure_l2_rel, error_rel, effectivity, seconds, gmsh;
+  PetscInt  dofs, iterations, ripple_nodes, active_nodes;
+  PetscReal estimate, goal, pressure_estimate, pressure_l2_rel, error_rel, effectivity, ripple, seconds, gmsh;
 } StepRecord;
 
-static void Record(StepRecord *r, const M2dStep *st, double seconds, double gmsh)
+static void Record(StepRecord *r, const M2dAdaptOptions *ao, const M2dStep *st, double seconds, double gmsh)
 {
   r->dofs            = 2 * st->pb.mesh.nvert_global;
   r->iterations      = st->pb.has_contact ? st->sol.as.iterations : 0;
-  r->estimate        = AdaptEstimate(st);
+  r->estimate        = st->fig.est.estimate_rel;
+  r->goal            = GoalEstimate(ao, st);
+  r->pressure_estimate = st->fig.pressure_estimate;
   r->pressure_l2_rel = st->fig.pressure_l2_rel;
   r->error_rel       = st->fig.true_error_rel;
   r->effectivity     = st->fig.effectivity;
+  r->ripple          = st->fig.pressure_ripple;
+  r->ripple_nodes    = st->fig.ripple_nodes;
+  r->active_nodes    = st->fig.active_nodes;
   r->seconds         = seconds;
   r->gmsh            = gmsh;
 }
 
-static PetscErrorCode WriteRecords(M2dSummary *sum, PetscInt n, const StepRecord *r)
+static void StepLine(MPI_Comm comm, PetscInt k, const StepRecord *r)
+{
+  char known[128] = "", contact[128] = "";
+  if (r->error_rel >= 0) PetscSNPrintf(known, sizeof(known), " (true %.3e)", (double)r->error_rel);
+  if (r->pressure_estimate >= 0) PetscSNPrintf(contact, sizeof(contact), ", pressure %.3e%s%.3e%s, ripple %.2f%%", (double)r->pressure_estimate, r->pressure_l2_rel >= 0 ? " (Hertz " : "", (double)r->pressure_l2_rel, r->pressure_l2_rel >= 0 ? ")" : "", (double)(100 * r->ripple));
+  if (r->pressure_l2_rel < 0 && r->pressure_estimate >= 0) PetscSNPrintf(contact, sizeof(contact), ", pressure %.3e, ripple %.2f%%", (double)r->pressure_estimate, (double)(100 * r->ripple));
+  PetscPrintf(comm, "adapt step %" PetscInt_FMT ": %" PetscInt_FMT " dofs, estimated errors: energy %.3e%s%s, %" PetscInt_FMT " active-set steps, %.3f s\n", k, r->dofs, (double)r->estimate, known, contact, r->iterations, r->seconds);
+}
+
+static PetscErrorCode WriteRecords(M2dSummary *sum, PetscInt n, const StepRecord *r, StopReason why, PetscInt best)
 {
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < n; k++) {
     PetscCall(M2dSummaryListInt(sum, "adapt", k, "dofs", r[k].dofs));
     PetscCall(M2dSummaryListReal(sum, "adapt", k, "error_estimate", r[k].estimate));
+    PetscCall(M2dSummaryListReal(sum, "adapt", k, "goal_estimate", r[k].goal));
+    if (r[k].pressure_estimate >= 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "pressure_estimate", r[k].pressure_estimate));
     if (r[k].pressure_l2_rel >= 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "pressure_l2_rel", r[k].pressure_l2_rel));
     if (r[k].error_rel >= 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "error_rel", r[k].error_rel));
     if (r[k].effectivity >= 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "effectivity", r[k].effectivity));
+    if (r[k].ripple >= 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "pressure_ripple", r[k].ripple));
+    if (r[k].ripple >= 0) PetscCall(M2dSummaryListInt(sum, "adapt", k, "active_nodes", r[k].active_nodes));
     PetscCall(M2dSummaryListInt(sum, "adapt", k, "iterations", r[k].iterations));
     PetscCall(M2dSummaryListReal(sum, "adapt", k, "seconds", r[k].seconds));
     PetscCall(M2dSummaryListReal(sum, "adapt", k, "seconds_gmsh", r[k].gmsh));
   }
+  PetscCall(M2dSummaryString(sum, "", "adapt_stop", StopKey[why]));
+  PetscCall(M2dSummaryInt(sum, "", "adapt_best_step", best));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, const M2dEstimatorOptions *eo)
+/* Rank 0: the cells the field asks for on prev, sum over quads of area / h^2 */
+static double FieldCells(const PrevMesh *prev)
 {
-  PrevMesh        prev;
-  M2dContactState state, *warm = NULL;
-  M2dStep         st;
-  StepRecord      rec[M2D_ADAPT_MAX_STEPS];
-  PetscInt        nrec = 0;
-  int             bodytag[M2D_MAX_BODIES];
-  char            what[PETSC_MAX_PATH_LEN + 64];
-  double          t_start = M2dWallTime();
-  PetscErrorCode  ierr;
+  const MshMesh *q = &prev->msh;
+  double         n = 0;
+  for (long c = 0; c < q->nquad; c++) {
+    const long *v = &q->quad[4 * c];
+    double      a = 0;
+    for (int j = 0; j < 4; j++) a += 0.5 * (q->xy[2 * v[j]] * q->xy[2 * v[(j + 1) % 4] + 1] - q->xy[2 * v[(j + 1) % 4]] * q->xy[2 * v[j] + 1]);
+    n += a / (prev->hcell[c] * prev->hcell[c]);
+  }
+  return n;
+}
+
+/* Rank 0: every size times f */
+static void Scale(PrevMesh *prev, double f)
+{
+  for (long c = 0; c < prev->msh.nquad; c++) prev->hcell[c] *= f;
+}
+
+/* Rank 0: a floor for the refinement at a contact zone's edges: sizes at least
+ * 2e-3 of the zone's length along the non-mortar surface (edges with both
+ * nodes active; user units), so that no cell (the square root of its area:
+ * gmsh's quads of size h measure 0.6-0.8 h so) is below 1e-3 of it */
+static void Floor(PrevMesh *prev, const M2dContact *c, PetscReal L, PetscBool *act)
+{
+  PetscReal len = 0;
+  for (PetscInt i = 0; i < c->nm.nnode; i++) act[i] = PETSC_FALSE;
+  for (PetscInt j = 0; j < c->R.n; j++) act[c->R.node[j]] = (PetscBool)(c->active[j] != 0);
+  for (PetscInt e = 0; e < c->nm.nedge; e++)
+    if (act[c->nm.edge[2 * e]] && act[c->nm.edge[2 * e + 1]]) len += c->nm.len[e] * L; /* len: reference units */
+  for (long q = 0; q < prev->msh.nquad; q++) prev->hcell[q] = PetscMax(prev->hcell[q], 2e-3 * len);
+}
+
+/* The mesh of step k > 0 from the size field of step st: gathered on rank 0,
+ * balanced across the contact, floored, graded; then every size grown by one
+ * factor so that the cells gmsh will make (the field's count times *ratio,
+ * gmsh's cells per asked cell at the last remeshing) are those the size field
+ * chose (balance and gradation add some); rounded (Quantize), in the .geo's
+ * units, remeshed. A mesh past -adapt_max_dofs is made again with every size
+ * grown to fit, at most three times; *fits false if it still does not. */
+static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao, const M2dStep *st, PetscInt k, double *ratio, MshMesh *msh, double *tgmsh, PetscInt *dofs, PetscBool *fits)
+{
+  PrevMesh prev;
 
   PetscFunctionBeginUser;
-  PetscCheck(eo->enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
   PetscCall(PetscMemzero(&prev, sizeof(prev)));
-  PetscCall(PetscMemzero(&state, sizeof(state)));
-  for (PetscInt k = 0;; k++) {
-    MshMesh  msh;
-    double   t0 = M2dWallTime(), tgmsh = 0, seconds;
-    PetscBool last;
-    PetscCall(Remesh(comm, s, ao, &prev, k, &msh, &tgmsh));
-    PrevMeshFree(&prev);
-    PetscCall(PetscSNPrintf(what, sizeof(what), "%s (adapt step %" PetscInt_FMT ")", s->geo, k));
-    ierr = M2dStepSolve(comm, s, &(M2dMeshSource){&msh, what}, warm, eo, &st);
-    if (!ierr && k == 0) ierr = BodyTags(comm, s, &msh, bodytag);
-    MshFree(&msh);
-    if (ierr) { /* free what the loop holds, then raise */
-      PetscCall(M2dStepDestroy(&st));
-      PetscCall(ContactStateDestroy(&state));
-      PetscCall(ierr);
+  PetscCall(GatherPrevMesh(st, &prev));
+  if (prev.hcell) { /* rank 0 */
+    if (st->pb.has_contact) {
+      PetscBool *act;
+      PetscCall(Balance(&prev, &st->pb.contact, st->pb.units.L));
+
+      PetscCall(PetscMalloc1(st->pb.contact.nm.nnode + 1, &act));
+      Floor(&prev, &st->pb.contact, st->pb.units.L, act);
+      PetscCall(PetscFree(act));
     }
+    PetscCall(Grade(&prev, ao->grading));
+    {
+      double f = PetscSqrtReal(*ratio * FieldCells(&prev) / PetscMax(st->fig.expected_cells, 1));
+      if (f > 1) Scale(&prev, f);
+    }
+    Quantize(&prev);
+    GeoUnits(&prev, s->mesh_scale);
+  }
+  *fits = PETSC_FALSE;
+  for (int attempt = 0; attempt < 4; attempt++) {
+    double t;
+    PetscCall(Remesh(comm, s, ao, &prev, k, msh, &t, dofs));
+    *tgmsh += t;
+    if (prev.hcell && msh->nquad) *ratio = (double)msh->nquad / FieldCells(&prev);
+    if (*dofs <= ao->max_dofs) {
+      *fits = PETSC_TRUE;
+      break;
+    }
+    MshFree(msh);
+    if (prev.hcell) { /* the area ratio and 4% more, at least one rounding step */
+      Scale(&prev, PetscMax(PetscSqrtReal(1.04 * (PetscReal)*dofs / (PetscReal)ao->max_dofs), 1.0444));
+      Quantize(&prev);
+    }
+  }
+  PrevMeshFree(&prev);
+  PetscFunctionReturn(0);
+}
+
+/* Run the loop (adapt.h). The meshes' sizes come from the latest mesh, the
+ * results written are those of the mesh with the smallest estimate; the loop
+ * stops at the target, after -adapt_max_steps meshes, or when a mesh lowers
+ * the best estimate by less than 10% (then the cap holds it, or nothing more
+ * is gained), and says which. */
+PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, const M2dEstimatorOptions *eo_in)
+{
+  M2dContactState     state, *warm = NULL;
+  M2dStep             st, best; /* the latest mesh's step, the best one's (may be the same) */
+  StepRecord          rec[M2D_ADAPT_MAX_STEPS];
+  PetscInt            nrec = 0, kbest = -1;
+  char                what[PETSC_MAX_PATH_LEN + 64];
+  double              t_start = M2dWallTime(), ratio = 1.3; /* gmsh's cells per asked cell (rank 0): learnt from each remeshing */
+  M2dEstimatorOptions eo = *eo_in;
+  StopReason          why = STOP_NONE;
+  PetscReal           est, est_min = 0;
+  PetscBool           have_best = PETSC_FALSE, st_is_best = PETSC_FALSE;
+  PetscErrorCode      ierr = 0;
+
+  PetscFunctionBeginUser;
+  PetscCheck(eo.enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
+  /* the next mesh's size field: growth x this mesh's dofs, at most 0.9 x the
+   * cap (gmsh's count varies), the error equidistributed over them (estimator.h);
+   * the target only stops the loop, so a tighter target follows the same meshes
+   * further and never ends on a worse one */
+  eo.size.target_rel = 1e-12;
+  eo.max_dofs        = 0.9 * (PetscReal)ao->max_dofs;
+  eo.growth          = ao->growth;
+  PetscCall(PetscMemzero(&state, sizeof(state)));
+  PetscCall(PetscMemzero(&st, sizeof(st)));
+  for (PetscInt k = 0; !ierr && why == STOP_NONE; k++) {
+    MshMesh   msh;
+    double    t0 = M2dWallTime(), tgmsh = 0, seconds;
+    PetscInt  dofs = 0;
+    PetscBool fits = PETSC_TRUE;
+
+    if (k == 0 && s->nmesh == 0) {
+      PetscCall(Remesh(comm, s, ao, NULL, 0, &msh, &tgmsh, &dofs));
+      if (dofs > ao->max_dofs) MshFree(&msh);
+      PetscCheck(dofs <= ao->max_dofs, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_dofs: the first mesh, the .geo's own ('%s'), has %" PetscInt_FMT " dofs, more than the cap %" PetscInt_FMT ": coarsen it (its parameters: -geo_setnumber) or raise the cap", s->geo, dofs, ao->max_dofs);
+    } else if (k > 0) {
+      ierr = NextMesh(comm, s, ao, &st, k, &ratio, &msh, &tgmsh, &dofs, &fits);
+      if (ierr || !fits) { /* keep the results so far */
+        if (!ierr) why = STOP_FIT;
+        break;
+      }
+      if (st.pb.has_contact) { /* the next mesh starts from this one's contact state */
+        PetscCall(ContactStateDestroy(&state));
+        PetscCall(ContactStateCreate(&st.pb.contact, &state));
+        warm = &state;
+      }
+      if (!st_is_best) PetscCall(M2dStepDestroy(&st));
+      st_is_best = PETSC_FALSE; /* best keeps what st shared with it */
+    }
+    PetscCall(PetscSNPrintf(what, sizeof(what), "%s (adapt step %" PetscInt_FMT ")", s->geo, k));
+    if (k == 0 && s->nmesh > 0) { /* the first mesh: the -mesh files */
+      ierr = M2dStepSolve(comm, s, NULL, NULL, &eo, &st);
+      dofs = ierr ? 0 : 2 * st.pb.mesh.nvert_global;
+      if (!ierr && dofs > ao->max_dofs) ierr = PetscError(comm, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_USER_INPUT, PETSC_ERROR_INITIAL, "option -adapt_max_dofs: the first mesh, -mesh %s, has %" PetscInt_FMT " dofs, more than the cap %" PetscInt_FMT, s->mesh[0], dofs, ao->max_dofs);
+    } else {
+      ierr = M2dStepSolve(comm, s, &(M2dMeshSource){&msh, what}, warm, &eo, &st);
+      MshFree(&msh);
+    }
+    if (ierr) break;
     seconds = M2dWallTime() - t0;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
-    StepLine(comm, k, &st, seconds);
-    Record(&rec[nrec++], &st, seconds, tgmsh);
-    last = (PetscBool)(AdaptEstimate(&st) <= ao->target || k + 1 >= ao->max_steps);
-    /* the next mesh must fit -adapt_max_dofs: the size field's expected cells, about one vertex (2 dofs) each */
-    if (!last) last = (PetscBool)(2 * st.fig.expected_cells > ao->max_dofs);
-    if (last) break;
-    PetscCall(GatherPrevMesh(&st, bodytag, &prev));
-    if (prev.hcell) PetscCall(Grade(&prev, ao->grading));
-    PetscCall(ContactStateDestroy(&state));
-    if (st.pb.has_contact) {
-      PetscCall(ContactStateCreate(&st.pb.contact, &state));
-      warm = &state;
+    Record(&rec[nrec], ao, &st, seconds, tgmsh);
+    StepLine(comm, k, &rec[nrec++]);
+    est = GoalEstimate(ao, &st);
+    if (est <= ao->target) why = STOP_TARGET;
+    else if (k + 1 >= ao->max_steps) why = STOP_STEPS;
+    else if (have_best && est > 0.9 * est_min && ao->growth * dofs >= eo.max_dofs) why = STOP_CAP; /* held at the cap */
+    /* the mesh kept: the last one whose estimate is within 10% of the smallest
+     * so far (the estimate cannot rank meshes closer than that; the later mesh
+     * was made from more information) */
+    est_min = have_best ? PetscMin(est_min, est) : est;
+    if (est <= 1.1 * est_min) {
+      if (have_best) PetscCall(M2dStepDestroy(&best));
+      best       = st;
+      kbest      = k;
+      have_best  = PETSC_TRUE;
+      st_is_best = PETSC_TRUE;
     }
-    PetscCall(M2dStepDestroy(&st));
   }
-  PetscCall(WriteRecords(st.sum, nrec, rec));
-  PetscCall(M2dSummaryReal(st.sum, "", "adapt_seconds", M2dWallTime() - t_start));
-  PetscCall(M2dStepWrite(&st));
-  PetscCall(M2dStepDestroy(&st));
+  if (!ierr) {
+    PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " meshes: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, StopText[why], kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
+    PetscCall(WriteRecords(best.sum, nrec, rec, why, kbest));
+    PetscCall(M2dSummaryReal(best.sum, "", "adapt_seconds", M2dWallTime() - t_start));
+    ierr = M2dStepWrite(&best);
+  }
+  if (!st_is_best) PetscCall(M2dStepDestroy(&st));
+  if (have_best) PetscCall(M2dStepDestroy(&best));
   PetscCall(ContactStateDestroy(&state));
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }

@@ -34,30 +34,44 @@ void M2dSizeFieldDefaults(M2dSizeFieldParams *p)
   p->sing_share = 10;
   p->min_factor = 0.125;
   p->max_factor = 2;
+  p->max_cells  = 0;
 }
 
-/* per cell, what the factor h_new/h_K needs apart from N: with a = eta_T/eta_K,
- * f = a^(1/q) N^(-1/(2q)) (ratio a/sqrt(N) < 1: the cell is above its share) */
+/* per cell, what the factor h_new/h_K needs apart from N and the target's
+ * scale t (1: eta_T as asked): with a = eta_T/eta_K, f = (t a)^(1/q)
+ * N^(-1/(2q)) (ratio t a/sqrt(N) < 1: the cell is above its share) */
 typedef struct {
   PetscReal *a, *f1, *fs; /* a, a^(1/order), a^(1/order_sing); a = 0: eta_K = 0 */
   PetscBool *sing;        /* holds at least sing_share x the mean eta_K^2 */
 } SizeCells;
 
-static PetscReal SizeFactor(const SizeCells *sc, PetscInt k, PetscReal sqN, PetscReal s1, PetscReal ss, const M2dSizeFieldParams *p)
+/* the factors of a target scaled by t and a cell count N */
+typedef struct {
+  PetscReal ta, s1, ss; /* t sqrt(N)^-1 for the singular test, (t^2/N)^(1/(2q)), the same with q_sing */
+} SizeScale;
+
+static SizeScale Scale(PetscReal t, PetscReal N, const M2dSizeFieldParams *p)
+{
+  SizeScale k = {PetscSqrtReal(N) / t, PetscPowReal(t * t / N, 0.5 / p->order), PetscPowReal(t * t / N, 0.5 / p->order_sing)};
+  return k;
+}
+
+static PetscReal SizeFactor(const SizeCells *sc, PetscInt k, SizeScale z, const M2dSizeFieldParams *p)
 {
   PetscReal f;
   if (!(sc->a[k] > 0)) return p->max_factor;
-  f = sc->sing[k] && sc->a[k] < sqN ? sc->fs[k] * ss : sc->f1[k] * s1;
+  f = sc->sing[k] && sc->a[k] < z.ta ? sc->fs[k] * z.ss : sc->f1[k] * z.s1;
   return PetscMin(PetscMax(f, p->min_factor), p->max_factor);
 }
 
-/* expected number of cells sum_K (h_K/h_new)^2 for N, minus N (global) */
-static PetscErrorCode CountExcess(MPI_Comm comm, PetscInt n, const SizeCells *sc, PetscReal N, const M2dSizeFieldParams *p, PetscReal *G)
+/* expected number of cells sum_K (h_K/h_new)^2 for the target scale t and N, minus N (global) */
+static PetscErrorCode CountExcess(MPI_Comm comm, PetscInt n, const SizeCells *sc, PetscReal t, PetscReal N, const M2dSizeFieldParams *p, PetscReal *G)
 {
-  PetscReal cnt = 0, sqN = PetscSqrtReal(N), s1 = PetscPowReal(N, -0.5 / p->order), ss = PetscPowReal(N, -0.5 / p->order_sing);
+  PetscReal cnt = 0;
+  SizeScale z   = Scale(t, N, p);
 
   PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < n; k++) cnt += 1 / PetscSqr(SizeFactor(sc, k, sqN, s1, ss, p));
+  for (PetscInt k = 0; k < n; k++) cnt += 1 / PetscSqr(SizeFactor(sc, k, z, p));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &cnt, 1, MPIU_REAL, MPI_SUM, comm));
   *G = cnt - N;
   PetscFunctionReturn(0);
@@ -80,12 +94,17 @@ static PetscErrorCode CountExcess(MPI_Comm comm, PetscInt n, const SizeCells *sc
  * times the mean eta_K^2 (on a smooth solution no cell does; at a singular point
  * a few do, and fewer as the mesh grades) and above its share uses order_sing:
  * a larger refinement factor exactly where the indicator concentrates
- * (continuous at eta_K = share, where every order gives 1). */
+ * (continuous at eta_K = share, where every order gives 1).
+ * A cap. When N exceeds p->max_cells (> 0), the target is relaxed instead:
+ * N = max_cells and eta_T scaled by the t > 1 that makes the expected count
+ * N (bisected in log t; the count falls as t grows): the same distribution of
+ * the error, on the cells the cap allows. */
 PetscErrorCode M2dSizeField(MPI_Comm comm, PetscInt n, const PetscReal h[], const PetscReal eta[], const M2dErrorEstimate *e, const M2dSizeFieldParams *p, PetscReal hnew[], PetscReal *nexpect)
 {
-  PetscReal       etaT = p->target_rel * e->energy_norm, ncur = n, sing2, lo, hi, G;
+  PetscReal       etaT = p->target_rel * e->energy_norm, ncur = n, sing2, lo, hi, G, t = 1;
   const PetscReal step = 1.189207115002721; /* 2^(1/4) */
   SizeCells       sc;
+  SizeScale       z;
 
   PetscFunctionBeginUser;
   PetscCheck(p->target_rel > 0 && p->order > 0 && p->order_sing > 0 && p->sing_share > 0 && p->min_factor > 0 && p->min_factor <= 1 && p->max_factor >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "size field: target %g, orders %g %g, share %g, factors [%g, %g] out of range", (double)p->target_rel, (double)p->order, (double)p->order_sing, (double)p->sing_share, (double)p->min_factor, (double)p->max_factor);
@@ -100,18 +119,35 @@ PetscErrorCode M2dSizeField(MPI_Comm comm, PetscInt n, const PetscReal h[], cons
   }
   lo = ncur / PetscSqr(p->max_factor); /* G(lo) >= 0: every factor is <= max */
   for (hi = lo * step;; hi *= step) {  /* G(ncur / min^2) <= 0: the scan stops there at the latest */
-    PetscCall(CountExcess(comm, n, &sc, hi, p, &G));
+    PetscCall(CountExcess(comm, n, &sc, 1, hi, p, &G));
     if (G <= 0 || hi >= ncur / PetscSqr(p->min_factor)) break;
     lo = hi;
   }
   for (int it = 0; it < 30 && hi > lo * (1 + 1e-9); it++) {
     PetscReal N = PetscSqrtReal(lo * hi);
-    PetscCall(CountExcess(comm, n, &sc, N, p, &G));
+    PetscCall(CountExcess(comm, n, &sc, 1, N, p, &G));
     if (G > 0) lo = N;
     else hi = N;
   }
+  if (p->max_cells > 0 && hi > p->max_cells) { /* relax the target to fit the cap */
+    PetscReal tlo = 1, thi = 2;
+    hi = p->max_cells;
+    for (;; thi *= 2) {
+      PetscCall(CountExcess(comm, n, &sc, thi, hi, p, &G));
+      if (G <= 0 || thi > 1e12) break;
+      tlo = thi;
+    }
+    for (int it = 0; it < 40 && thi > tlo * (1 + 1e-9); it++) {
+      t = PetscSqrtReal(tlo * thi);
+      PetscCall(CountExcess(comm, n, &sc, t, hi, p, &G));
+      if (G > 0) tlo = t;
+      else thi = t;
+    }
+    t = thi;
+  }
   *nexpect = hi;
-  for (PetscInt k = 0; k < n; k++) hnew[k] = h[k] * SizeFactor(&sc, k, PetscSqrtReal(hi), PetscPowReal(hi, -0.5 / p->order), PetscPowReal(hi, -0.5 / p->order_sing), p);
+  z        = Scale(t, hi, p);
+  for (PetscInt k = 0; k < n; k++) hnew[k] = h[k] * SizeFactor(&sc, k, z, p);
   PetscCall(PetscFree4(sc.a, sc.f1, sc.fs, sc.sing));
   PetscFunctionReturn(0);
 }

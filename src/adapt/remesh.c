@@ -199,7 +199,37 @@ typedef struct {
   double        fac;       /* 2 when triangles are split into quads afterwards */
   int           maxtag[3];
   int          *surf[3];   /* [4 tag + k]: physical surface tags, -1 padded; all -1: any */
+  MshMesh       view;      /* prev with quadphys in the model's tags (ViewByName) */
+  int          *quadphys;
 } Driver;
+
+/* The previous mesh's surfaces are named (prev->phys): its quads' tags become
+ * the tags the .geo gives the surfaces of those names, so that a mesh from
+ * anywhere (an earlier remeshing, a .msh of the same bodies) can drive the
+ * field. A previous mesh without names keeps its tags. */
+static int ViewByName(Ctx *c, const MshMesh *prev, Driver *d)
+{
+  int   *pg = NULL, ierr = 0, bad = 0;
+  size_t npg = 0;
+  d->view = *prev;
+  if (!prev->nphys) return 0;
+  if (!(d->quadphys = (int *)malloc((size_t)(prev->nquad + 1) * sizeof(int)))) return Fail(c, "out of memory");
+  G.gmshModelGetPhysicalGroups(&pg, &npg, 2, &ierr);
+  for (long q = 0; q < prev->nquad && !bad; q++) {
+    const char *name = MshPhysicalName(prev, 2, prev->quadphys[q]);
+    d->quadphys[q]   = -1;
+    for (size_t i = 0; name && i + 1 < npg && d->quadphys[q] < 0; i += 2) {
+      char *gn = NULL;
+      G.gmshModelGetPhysicalName(2, pg[i + 1], &gn, &ierr);
+      if (gn && !strcmp(gn, name)) d->quadphys[q] = pg[i + 1];
+      G.gmshFree(gn);
+    }
+    if (d->quadphys[q] < 0) bad = Fail(c, "it has no physical surface '%s', a body of the mesh it is to refine", name ? name : "(unnamed)");
+  }
+  G.gmshFree(pg);
+  d->view.quadphys = d->quadphys;
+  return bad;
+}
 
 static void AddSurfaces(int dim, int tag, int s[4], int *over)
 {
@@ -273,7 +303,8 @@ static int SetSizeField(Ctx *c, const M2dRemeshInput *in, Driver *d)
   int ierr = 0, field;
   /* subdivision splits each triangle edge in two: triangles at 2h give quads at h */
   d->fac = Splits(in->quads) ? 2 : 1;
-  if (M2dRemeshFieldCreate(in->prev, in->hnode, in->hcell, in->hmin, in->hmax, &d->field)) return Fail(c, "out of memory for the size field");
+  if (ViewByName(c, in->prev, d)) return 1;
+  if (M2dRemeshFieldCreate(&d->view, in->hnode, in->hcell, in->hmin, in->hmax, &d->field)) return Fail(c, "out of memory for the size field");
   if (BuildDriver(c, d)) return 1;
   field = G.gmshModelMeshFieldAdd("MathEval", -1, &ierr);
   if (!ierr) G.gmshModelMeshFieldSetString(field, "F", "1e22", &ierr);
@@ -545,7 +576,8 @@ static int Run(Ctx *c, const M2dRemeshInput *in, Driver *d, MshMesh *out, M2dRem
   size_t nent = 0;
   snprintf(geo, sizeof(geo), "%s", in->geo);
   if ((in->nnumber || in->prev) && WriteWrapper(c, in, geo)) return 1;
-  if (SetOption(c, "General.Terminal", in->verbose ? 1 : 0) || SetOption(c, "General.Verbosity", in->verbose ? 4 : 2) || SetOption(c, "General.AbortOnError", 0) || SetOption(c, "General.NumThreads", 1)) return 1;
+  if (SetOption(c, "General.Terminal", in->verbose ? 1 : 0) || SetOption(c, "General.Verbosity", in->verbose ? 4 : 2) || SetOption(c, "General.AbortOnError", 0) || SetOption(c, "General.NumThreads", 1) ||
+      SetOption(c, "Mesh.MaxNumThreads1D", 1) || SetOption(c, "Mesh.MaxNumThreads2D", 1) || SetOption(c, "Mesh.MaxNumThreads3D", 1)) return 1; /* one thread: the same mesh every run */
   G.gmshLoggerStart(&ierr);
   G.gmshOpen(geo, &ierr);
   if (GmshError(c, ierr, "to read it")) return 1;
@@ -593,6 +625,7 @@ int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, cha
   }
   M2dRemeshFieldDestroy(&d.field);
   for (int k = 0; k < 3; k++) free(d.surf[k]);
+  free(d.quadphys);
   setlocale(LC_ALL, locale);
   if (c.wrapper[0]) unlink(c.wrapper);
   if (c.failed) {
