@@ -56,7 +56,7 @@ check(np.percentile(r, 90) < 0.05 and np.median(r) < 0.025 and r.max() < 0.15, "
 far = np.hypot(cen[:, 0], cen[:, 1]) > 1
 check(np.median(h[far]) > 50 * np.median(h[small]), "Hertz: cells far from the contact stay coarse (median h %.3f against %.5f at the edge)" % (np.median(h[far]), np.median(h[small])))
 
-s = solve("adapt_s1", ["-options_file", opts("seed_patch_adapt"), "-adapt_max_steps", "3", "-contact_monitor", "0", "-output_name", "sol"])
+s = solve("adapt_s1", ["-options_file", opts("seed_patch_adapt"), "-adapt_max_steps", "4", "-contact_monitor", "0", "-output_name", "sol"])
 cen, h, cf = cells_and_sizes(os.path.join(workdir("adapt_s1"), "sol.h5"))
 small = np.argsort(h)[:20]
 corner = np.minimum(np.hypot(cen[small, 0] - 0.25, cen[small, 1] - 0.5), np.hypot(cen[small, 0] - 0.75, cen[small, 1] - 0.5))
