@@ -1,8 +1,9 @@
 /* activeset_impl.h - the active-set iteration's internals, shared by
- * activeset.c (the iteration: masks, residual, Jacobian, convergence, the
- * solve) and activeset_paths.c (what each solver path adds: the condensed
- * path's iteration on the multipliers, the iterative path's solves, the VI
- * solver's bounds). Not public. */
+ * activeset_step.c (one step: mask, residual, the Jacobian's set),
+ * activeset_paths.c (what each solver path adds: the condensed path's
+ * iteration on the multipliers, the iterative path's solves, the VI solver's
+ * bounds) and activeset.c (the SNES that drives them). Calls go one way:
+ * activeset -> paths -> step. Not public. */
 #ifndef M2D_ACTIVESET_IMPL_H
 #define M2D_ACTIVESET_IMPL_H
 #include "activeset.h"
@@ -43,7 +44,13 @@ typedef struct {
   PetscInt      step;    /* active-set steps taken */
 } M2dActiveSet;
 
-/* activeset.c */
+/* c in the user's units (the summary's contact_c): lambda / c is a weighted gap */
+static inline PetscReal CUser(const M2dProblem *pb)
+{
+  return pb->units.S / (pb->units.L * pb->units.U);
+}
+
+/* activeset_step.c */
 PetscErrorCode ActiveSetUpdateMask(M2dActiveSet *as);
 PetscErrorCode ActiveSetFunction(SNES snes, Vec z, Vec F, void *ctx);
 PetscErrorCode ActiveSetJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx);

@@ -17,9 +17,9 @@ static PetscErrorCode FactorLocal(M2dCondensed *cs, const M2dCondensedOptions *o
   PetscLogDouble flops;
 
   PetscFunctionBeginUser;
-  PetscCall(LocalMatrixCreate(cs, &nnz, &irn, &jcn, &a));
+  PetscCall(LocalMatrixCreate(cs->comm, cs->Kg, cs->C, cs->Ct, &cs->split, cs->ldlt, &lf->nschur, &lf->schur_iface, &nnz, &irn, &jcn, &a));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_COND_ORDER], 0, 0, 0, 0));
-  PetscCall(LocalOrdering(cs, opt->ordering, &perm));
+  PetscCall(LocalOrdering(cs->comm, cs->Kg, &cs->split, lf->nschur, opt->ordering, &perm));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_COND_ORDER], 0, 0, 0, 0));
   PetscCall(M2dMumpsCreate(cs->comm, cs->split.ninterior > 0 ? cs->split.ninterior + lf->nschur : 0, opt->ldlt, &opt->mumps, &lf->mumps));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MUMPS_ANALYSIS], 0, 0, 0, 0));
@@ -54,7 +54,7 @@ static PetscErrorCode InterfaceAssemble(M2dCondensed *cs, PetscScalar *S, PetscS
   for (PetscInt q = 0; q < m; q++)
     for (PetscInt p = 0; p < m; p++) A[gi[p] + gi[q] * G] += S[p + q * m];
   PetscCall(PetscFree(S));
-  PetscCall(RowReaderCreate(cs, &rr));
+  PetscCall(RowReaderCreate(cs->Kg, cs->C, cs->Ct, &cs->split, &rr));
   for (PetscInt i = 0; i < sp->u1 - sp->u0 + sp->nl; i++) {
     PetscInt r;
     if (sp->row[i].kind == UNKNOWN_INTERIOR) continue;

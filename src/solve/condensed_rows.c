@@ -1,7 +1,7 @@
 /* condensed_rows.c - how the rows of M = [K_g C^T; C 0] are split among the
  * ranks (interior rows, separator, multipliers: condensed.h) and this rank's
- * sparse matrix for MUMPS (condensed_impl.h). */
-#include "condensed_impl.h"
+ * sparse matrix for MUMPS (condensed_rows.h). */
+#include "condensed_rows.h"
 #include "util.h"
 
 /* this rank's u rows coupled to a u row of a higher rank (none on one rank) */
@@ -82,14 +82,14 @@ PetscErrorCode RowSplitDestroy(RowSplit *sp)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode RowReaderCreate(M2dCondensed *cs, RowReader *rr)
+PetscErrorCode RowReaderCreate(Mat Kg, Mat C, Mat Ct, const RowSplit *sp, RowReader *rr)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(rr, sizeof(*rr)));
-  rr->Kg    = cs->Kg;
-  rr->C     = cs->C;
-  rr->Ct    = cs->Ct;
-  rr->split = &cs->split;
+  rr->Kg    = Kg;
+  rr->C     = C;
+  rr->Ct    = Ct;
+  rr->split = sp;
   rr->cap   = 64;
   PetscCall(PetscMalloc1(rr->cap, &rr->ent));
   PetscFunctionReturn(0);
@@ -159,10 +159,9 @@ PetscErrorCode RowReaderGet(RowReader *rr, PetscInt i)
  * them. The interface unknowns get their local Schur numbers as met (first
  * pass). Symmetric storage keeps the upper triangle; else an entry between an
  * interior row and the interface is written twice (M is symmetric). */
-static PetscErrorCode LocalTriples(M2dCondensed *cs, RowReader *rr, PetscInt schur_of[], PetscInt64 *nnz, M2dMumpsInt irn[], M2dMumpsInt jcn[], PetscScalar a[], PetscBool *foreign)
+static PetscErrorCode LocalTriples(RowReader *rr, PetscBool ldlt, PetscInt schur_of[], PetscInt *nschur, PetscInt schur_iface[], PetscInt64 *nnz, M2dMumpsInt irn[], M2dMumpsInt jcn[], PetscScalar a[], PetscBool *foreign)
 {
-  const RowSplit *sp = &cs->split;
-  LocalFactor    *lf = &cs->local;
+  const RowSplit *sp = rr->split;
   PetscInt64      k  = 0;
 
   PetscFunctionBeginUser;
@@ -179,17 +178,17 @@ static PetscErrorCode LocalTriples(M2dCondensed *cs, RowReader *rr, PetscInt sch
         continue;
       }
       if (c.kind == UNKNOWN_INTERIOR) {
-        if (cs->ldlt && c.index < r.index) continue;
+        if (ldlt && c.index < r.index) continue;
         col  = c.index + 1;
         both = PETSC_FALSE;
       } else {
         g = InterfaceIndex(sp, c);
         if (schur_of[g] < 0) {
-          schur_of[g]                      = lf->nschur;
-          lf->schur_iface[lf->nschur++] = g;
+          schur_of[g]               = *nschur;
+          schur_iface[(*nschur)++] = g;
         }
         col  = sp->ninterior + schur_of[g] + 1;
-        both = (PetscBool)!cs->ldlt;
+        both = (PetscBool)!ldlt;
       }
       if (irn) {
         irn[k] = (M2dMumpsInt)row;
@@ -211,54 +210,54 @@ static PetscErrorCode LocalTriples(M2dCondensed *cs, RowReader *rr, PetscInt sch
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode LocalMatrixCreate(M2dCondensed *cs, PetscInt64 *nnz, M2dMumpsInt **irn, M2dMumpsInt **jcn, PetscScalar **a)
+PetscErrorCode LocalMatrixCreate(MPI_Comm comm, Mat Kg, Mat C, Mat Ct, const RowSplit *sp, PetscBool ldlt, PetscInt *nschur, PetscInt **schur_iface, PetscInt64 *nnz, M2dMumpsInt **irn, M2dMumpsInt **jcn, PetscScalar **a)
 {
-  const RowSplit *sp = &cs->split;
   PetscInt        G  = sp->nsep + sp->nmult, *schur_of;
   PetscBool       foreign = PETSC_FALSE;
   RowReader       rr;
 
   PetscFunctionBeginUser;
-  PetscCall(RowReaderCreate(cs, &rr));
+  PetscCall(RowReaderCreate(Kg, C, Ct, sp, &rr));
   PetscCall(PetscMalloc1(G + 1, &schur_of));
-  PetscCall(PetscMalloc1(G + 1, &cs->local.schur_iface));
+  PetscCall(PetscMalloc1(G + 1, schur_iface));
   for (PetscInt g = 0; g < G; g++) schur_of[g] = -1;
-  cs->local.nschur = 0;
-  PetscCall(LocalTriples(cs, &rr, schur_of, nnz, NULL, NULL, NULL, &foreign));
-  PetscCall(M2dCheckCollective(cs->comm, foreign, "condensed path: an interior row couples to another rank's interior"));
+  *nschur = 0;
+  PetscCall(LocalTriples(&rr, ldlt, schur_of, nschur, *schur_iface, nnz, NULL, NULL, NULL, &foreign));
+  PetscCall(M2dCheckCollective(comm, foreign, "condensed path: an interior row couples to another rank's interior"));
   PetscCall(PetscMalloc3(*nnz + 1, irn, *nnz + 1, jcn, *nnz + 1, a));
-  PetscCall(LocalTriples(cs, &rr, schur_of, nnz, *irn, *jcn, *a, &foreign));
+  for (PetscInt g = 0; g < G; g++) schur_of[g] = -1;
+  *nschur = 0;
+  PetscCall(LocalTriples(&rr, ldlt, schur_of, nschur, *schur_iface, nnz, *irn, *jcn, *a, &foreign));
   PetscCall(PetscFree(schur_of));
   PetscCall(RowReaderDestroy(&rr));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode LocalOrdering(M2dCondensed *cs, M2dOrdering ord, M2dMumpsInt **perm)
+PetscErrorCode LocalOrdering(MPI_Comm comm, Mat Kg, const RowSplit *sp, PetscInt nschur, M2dOrdering ord, M2dMumpsInt **perm)
 {
-  const RowSplit *sp = &cs->split;
   PetscInt        nu = sp->u1 - sp->u0, nI = sp->ninterior, nlast = 0, *last_rows;
   PetscMPIInt     size;
-  Mat             Kd = cs->Kg;
+  Mat             Kd = Kg;
   IS              last, pos;
   const PetscInt *p;
 
   PetscFunctionBeginUser;
   *perm = NULL;
   if (ord != M2D_ORDERING_METIS || nI == 0) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Comm_size(cs->comm, &size));
-  if (size > 1) PetscCall(MatMPIAIJGetSeqAIJ(cs->Kg, &Kd, NULL, NULL)); /* this rank's rows and columns */
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size > 1) PetscCall(MatMPIAIJGetSeqAIJ(Kg, &Kd, NULL, NULL)); /* this rank's rows and columns */
   PetscCall(PetscMalloc1(nu - nI + 1, &last_rows));
   for (PetscInt i = 0; i < nu; i++) /* the separator rows stay out of the interior's order */
     if (sp->row[i].kind == UNKNOWN_SEPARATOR) last_rows[nlast++] = i;
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nlast, last_rows, PETSC_OWN_POINTER, &last));
   PetscCall(M2dOrderingMetis(Kd, last, &pos));
   PetscCall(ISDestroy(&last));
-  PetscCall(PetscMalloc1(nI + cs->local.nschur + 1, perm));
+  PetscCall(PetscMalloc1(nI + nschur + 1, perm));
   PetscCall(ISGetIndices(pos, &p));
   for (PetscInt i = 0; i < nu; i++) /* the interior comes first in METIS' order: positions 0 .. nI-1 */
     if (sp->row[i].kind == UNKNOWN_INTERIOR) (*perm)[sp->row[i].index] = (M2dMumpsInt)(p[i] + 1);
   PetscCall(ISRestoreIndices(pos, &p));
   PetscCall(ISDestroy(&pos));
-  for (PetscInt k = 0; k < cs->local.nschur; k++) (*perm)[nI + k] = (M2dMumpsInt)(nI + k + 1); /* the Schur variables last */
+  for (PetscInt k = 0; k < nschur; k++) (*perm)[nI + k] = (M2dMumpsInt)(nI + k + 1); /* the Schur variables last */
   PetscFunctionReturn(0);
 }
