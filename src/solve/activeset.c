@@ -3,7 +3,7 @@
  * convergence, monitor, failure messages, the solve). One step's pieces (the
  * mask, the residual, the set of the Jacobian) are in activeset_step.c, what
  * each solver path adds in activeset_paths.c. */
-#include "activeset_impl.h"
+#include "activeset_paths.h"
 #include "optcheck.h"
 
 PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)

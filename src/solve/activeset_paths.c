@@ -1,8 +1,8 @@
 /* activeset_paths.c - what each solver path adds to the active-set iteration
- * (see activeset_impl.h): the condensed path's iteration on the multipliers
+ * (see activeset_paths.h): the condensed path's iteration on the multipliers
  * (condensed.h), the iterative path's solve of each step (iterative.h), the
  * VI solver's bounds. */
-#include "activeset_impl.h"
+#include "activeset_paths.h"
 
 /* condensed path: F(nu) = c h max(-lambda/c, C u - r) with C u = w + S0 nu and
  * lambda = nu + g C u (condensed.h); the u rows hold for every nu */

@@ -1,8 +1,8 @@
-/* activeset_step.c - one active-set step (activeset_impl.h): the active mask
+/* activeset_step.c - one active-set step (activeset_step.h): the active mask
  * at an iterate (the complementarity test lambda/c + g~ >= 0), the residual
  * of the semismooth Newton iteration, and the set its Jacobian uses (the mask,
  * unless the iteration cycles; a set that leaves a body free is refused). */
-#include "activeset_impl.h"
+#include "activeset_step.h"
 
 static uint64_t Mix(uint64_t x)
 {

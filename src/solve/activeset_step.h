@@ -1,11 +1,10 @@
-/* activeset_impl.h - the active-set iteration's internals, shared by
- * activeset_step.c (one step: mask, residual, the Jacobian's set),
- * activeset_paths.c (what each solver path adds: the condensed path's
- * iteration on the multipliers, the iterative path's solves, the VI solver's
- * bounds) and activeset.c (the SNES that drives them). Calls go one way:
- * activeset -> paths -> step. Not public. */
-#ifndef M2D_ACTIVESET_IMPL_H
-#define M2D_ACTIVESET_IMPL_H
+/* activeset_step.h - the active-set iteration's context and one step
+ * (activeset_step.c: mask, residual, the Jacobian's set), the bottom of the
+ * active set's three files: activeset.c (the SNES that drives the steps) ->
+ * activeset_paths.c (what each solver path adds) -> activeset_step.c. Not
+ * public. */
+#ifndef M2D_ACTIVESET_STEP_H
+#define M2D_ACTIVESET_STEP_H
 #include "activeset.h"
 #include "condensed.h"
 #include "iterative.h"
@@ -55,9 +54,4 @@ PetscErrorCode ActiveSetUpdateMask(M2dActiveSet *as);
 PetscErrorCode ActiveSetFunction(SNES snes, Vec z, Vec F, void *ctx);
 PetscErrorCode ActiveSetJacobian(SNES snes, Vec z, Mat J, Mat P, void *ctx);
 PetscErrorCode ActiveSetChooseSet(M2dActiveSet *as, MPI_Comm comm);
-/* activeset_paths.c */
-PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info);
-PetscErrorCode ActiveSetCondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *nu, Mat *J);
-PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as);
-PetscErrorCode ActiveSetSetupVI(SNES snes, M2dActiveSet *as, Vec z);
 #endif
