@@ -300,9 +300,11 @@ PetscErrorCode ContactRipple(const M2dContact *c, PetscReal *ripple, PetscInt *n
     for (int side = 0, ok = 1; side < 2 && ok; side++) {
       PetscInt from = i, at = nb[side];
       for (int d = 0; d < 3 && ok; d++) {
-        PetscInt nx = NextNode(s, at, from);
-        ok   = at >= 0 && mult[at] >= 0;
-        from = at, at = nx;
+        ok = at >= 0 && mult[at] >= 0;
+        if (ok) {
+          PetscInt nx = NextNode(s, at, from);
+          from = at, at = nx;
+        }
       }
       if (!ok) nb[0] = -1;
     }
