@@ -31,7 +31,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, num, &nnum));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, 0, num, &nnum));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   for (PetscInt i = 0; i < nnum; i++) {

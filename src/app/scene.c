@@ -28,8 +28,6 @@
   #define M2D_GEO_DIR "meshes"
 #endif
 
-#define ENTRY_LEN 256 /* one comma-separated entry of -dirichlet, -pressure, -traction */
-
 /* split "a:b:c" in place into at most max fields; max + 1 when there are more */
 static int Split(char *s, char **f, int max)
 {
@@ -77,24 +75,25 @@ static const EntryForm entry_forms[ENTRY_KINDS] = {
  * (options.h), when the number of fields is wrong */
 static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char group[M2D_NAME_LEN], char word[M2D_NAME_LEN], PetscReal v[], int *nv)
 {
-  char *f[5], buf[ENTRY_LEN];
+  char *f[5], *buf;
   int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, ENTRY_LEN));
+  PetscCall(PetscStrallocpy(entry, &buf));
   nf  = Split(buf, f, 4);
   *nv = -1;
-  if (!(ef->counts >> nf & 1u)) {
-    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
-    PetscFunctionReturn(0);
+  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
+  else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", ef->opt, entry, M2D_NAME_LEN - 1));
+  else {
+    PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
+    if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
+    *nv = nf - 1 - ef->words;
+    for (int k = 0; k < *nv; k++) {
+      v[k] = 0;
+      PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
+    }
   }
-  PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
-  if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
-  *nv = nf - 1 - ef->words;
-  for (int k = 0; k < *nv; k++) {
-    v[k] = 0;
-    PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
-  }
+  PetscCall(PetscFree(buf));
   PetscFunctionReturn(0);
 }
 
@@ -150,7 +149,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscInt          nbodies, k;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -161,7 +160,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, bodies, &nbodies));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
   s->nbody = nbodies;
   for (PetscInt i = 0; i < nbodies; i++) {
     char name[M2D_NAME_LEN + 8];
@@ -188,7 +187,7 @@ static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObjec
   PetscInt n[ENTRY_KINDS];
 
   PetscFunctionBeginUser;
-  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, list[k], &n[k]));
+  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, 0, list[k], &n[k]));
   for (PetscInt i = 0; i < n[ENTRY_DIRICHLET]; i++) PetscCall(ParseDirichlet(list[ENTRY_DIRICHLET][i], &s->dir[s->ndir++]));
   if (n[ENTRY_PRESSURE] + n[ENTRY_TRACTION] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
   for (int k = ENTRY_PRESSURE; k <= ENTRY_TRACTION; k++)
