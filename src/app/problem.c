@@ -193,3 +193,21 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
   PetscCall(MeshDestroy(&pb->mesh));
   PetscFunctionReturn(0);
 }
+
+const char *ProblemPathSays(const M2dScene *s, M2dSolverPath path)
+{
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE && path == M2D_PATH_LINEAR) return "on the linear path (no contact pair) with -kkt_path iterative (one CG + AMG solve, options under -iterative_)";
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE && path == M2D_PATH_TIED) return "on the tied path (-contact_unilateral false) with -kkt_path iterative (one CG + AMG solve, options under -iterative_)";
+  switch (path) {
+  case M2D_PATH_LINEAR:
+    return "on the linear path (no contact pair: one linear solve, no active set)";
+  case M2D_PATH_TIED:
+    return "on the tied path (-contact_unilateral false: one KKT solve, no active set)";
+  case M2D_PATH_CONDENSED:
+    return "on the condensed path (MUMPS called by the program, each active-set step by a dense LU)";
+  case M2D_PATH_FULL:
+    return "on the full path (the KKT matrix by PETSc's KSP and PC, refactored each step)";
+  default:
+    return "on the iterative path (each step by CG + AMG, options under -iterative_)";
+  }
+}

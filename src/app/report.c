@@ -1,5 +1,6 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
+#include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
 #include "logging.h"
@@ -149,6 +150,7 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
 {
   const char *recs[] = {"spr", "average"}; /* order of M2dRecovery */
   PetscInt    rec    = M2D_RECOVERY_SPR;
+  PetscBool   help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof(*o)));
@@ -164,6 +166,8 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
   o->recovery = (M2dRecovery)rec;
   PetscCheck(o->size.target_rel > 0 && o->size.target_rel < 1, comm, PETSC_ERR_USER_INPUT, "option -estimator_target: %g must be in (0, 1)", (double)o->size.target_rel);
   PetscCheck(o->size.order_sing > 0 && o->size.order_sing <= o->size.order, comm, PETSC_ERR_USER_INPUT, "option -estimator_order_sing: %g must be in (0, %g]", (double)o->size.order_sing, (double)o->size.order);
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (!o->enabled && !help) PetscCall(M2dOptionsNoEffect(comm, "-estimator_recovery -estimator_target -estimator_order_sing", "with -error_estimate false"));
   PetscFunctionReturn(0);
 }
 

@@ -361,6 +361,21 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscFunctionReturn(0);
 }
 
+/* options that need another one: named (optcheck.h: an error when typed, a
+ * note when an options file set them); the solver paths' own in solver.c */
+static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load", "without -hertz"));
+  if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle", "without -exact uniform"));
+  if (s->exact != M2D_EXACT_MMS) PetscCall(M2dOptionsNoEffect(comm, "-mms_amplitude", "without -exact mms"));
+  if (!s->contact_nm[0]) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_nonmortar, -contact_mortar)"));
+  else if (s->method == M2D_CONTACT_NTS) PetscCall(M2dOptionsNoEffect(comm, "-mortar_basis", "with -contact_method nts (node-to-segment rows have no multiplier basis)"));
+  if (s->contact_nm[0] && !s->unilateral) PetscCall(M2dOptionsNoEffect(comm, "-contact_c -contact_initial", "with -contact_unilateral false (every candidate node is held closed: no active set)"));
+  if (!s->geo[0]) PetscCall(M2dOptionsNoEffect(comm, "-geo_dir", "without -geo"));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *given, const char *dir, char *path, size_t len)
 {
   PetscMPIInt rank;
@@ -399,6 +414,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(M2dOptionsRaise(comm));
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
+  PetscCall(CheckEffect(comm, s));
   PetscCheck(s->nmesh > 0 || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
   for (PetscInt i = 0; i < s->nmesh; i++) {
     char given[PETSC_MAX_PATH_LEN];

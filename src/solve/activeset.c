@@ -271,7 +271,7 @@ static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path,
   PetscFunctionBeginUser;
   PetscCall(ConfigureSNES(snes, as, path));
   if (path == M2D_PATH_ITERATIVE) PetscCall(ActiveSetSetupIterative(snes, as));
-  PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
+  PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&as->pb->s, path))); /* the solvers are configured: an option nobody read is a typo */
   if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(ActiveSetSetupCondensed(snes, as, info));
   else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;
