@@ -32,6 +32,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   }
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
+  SummaryReal(sum, "", "strain_max", v->strain_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "units", "length", pb->units.L);

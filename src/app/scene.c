@@ -228,6 +228,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (effective R1 R2/(R1 + R2)), > 0", 2, s->hertz_radii, &s->hertz_nradius));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -269,7 +270,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   /* by job, as the options are read; every other field 0 */
   *s = (M2dScene){
     .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
-    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0},
+    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
     .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
@@ -343,6 +344,7 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(!s->hertz_load_set || s->hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_load: %g must be > 0 (auto: from the first -pressure)", (double)s->hertz_load);
   PetscCheck(!s->exact_p_set || s->exact_p > 0, comm, PETSC_ERR_USER_INPUT, "option -exact_p: %g must be > 0 (auto: the first -pressure)", (double)s->exact_p);
   PetscCheck(s->mms_amplitude != 0, comm, PETSC_ERR_USER_INPUT, "option -mms_amplitude: must not be 0");
+  PetscCheck(s->strain_limit > 0, comm, PETSC_ERR_USER_INPUT, "option -strain_limit: %g must be > 0", (double)s->strain_limit);
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
