@@ -83,7 +83,7 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   PetscCall(ContactRipple(c, &fig->pressure_ripple, &fig->ripple_nodes));
   SummaryReal(sum, "", "pressure_ripple", fig->pressure_ripple);
   SummaryReal(sum, "", "pressure_estimate", fig->pressure_estimate);
-  if (sol->path != M2D_PATH_TIED) SummaryReal(sum, "", "contact_c", sol->as.c * pb->units.S / (pb->units.L * pb->units.U));
+  if (sol->path != M2D_PATH_TIED) SummaryReal(sum, "", "contact_c", sol->as.c * (pb->units.S / pb->units.L) / pb->units.U);
   if (sol->path == M2D_PATH_CONDENSED) {
     SummaryReal(sum, "", "factor_flops", sol->as.factor_flops);
     SummaryReal(sum, "", "factor_flops_max_rank", sol->as.factor_flops_max);
@@ -222,7 +222,7 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
   const M2dContact *ct   = pb->has_contact ? &pb->contact : NULL;
   PetscInt          nlc  = pb->mesh.cEnd - pb->mesh.cStart;
-  PetscReal        *a, *av, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
+  PetscReal        *a, *av, *h, *hn, nexp, scale = M2dUnitsEnergyNorm(&pb->units);
   M2dErrorEstimate *est = &fig->est;
   M2dEstimatorOptions eoc = *eo; /* the cap in cells: dofs per cell as on this mesh */
 
