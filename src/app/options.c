@@ -45,9 +45,9 @@ static PetscErrorCode Raw(PetscOptionItems *PetscOptionsObject, const char *name
   PetscCall(M2dOptionsKnow(full));
   value[0] = 0;
   PetscCall(PetscOptionsFindPair(PetscOptionsObject->options, PetscOptionsObject->prefix, name, &v, set));
-  if (*set && v && strlen(v) >= VALUE_LEN) {
+  if (*set && v && strlen(v) >= VALUE_LEN) { /* no reader's form: PETSc is not asked to parse it */
     PetscCall(M2dOptionsDefer("option %s: its value is %zu characters long, more than the %d allowed", full, strlen(v), VALUE_LEN - 1));
-    *set = PETSC_FALSE;
+    PetscCall(PetscStrncpy(value, "(too long)", VALUE_LEN));
   } else if (*set && v) PetscCall(PetscStrncpy(value, v, VALUE_LEN));
   PetscFunctionReturn(0);
 }

@@ -299,13 +299,15 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
 /* -snes_max_it is PETSc's, which takes 0 or a negative value silently: the program needs >= 1 */
 static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
 {
-  char      buf[256], *end;
-  PetscBool set;
-  long long v;
+  const char *buf = NULL;
+  char       *end;
+  PetscBool   set;
+  long long   v;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_max_it", buf, sizeof(buf), &set));
+  PetscCall(PetscOptionsFindPair(NULL, NULL, "-snes_max_it", &buf, &set)); /* the whole value */
   if (!set) PetscFunctionReturn(0);
+  if (!buf) buf = "";
   v = strtoll(buf, &end, 10);
   PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
   PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
@@ -321,11 +323,13 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
 
   PetscFunctionBeginUser;
   for (size_t k = 0; k < sizeof(name) / sizeof(name[0]); k++) {
-    char      buf[256], *end;
-    PetscBool set;
-    double    v;
-    PetscCall(PetscOptionsGetString(NULL, NULL, name[k], buf, sizeof(buf), &set));
+    const char *buf = NULL;
+    char       *end;
+    PetscBool   set;
+    double      v;
+    PetscCall(PetscOptionsFindPair(NULL, NULL, name[k], &buf, &set)); /* the whole value */
     if (!set) continue;
+    if (!buf) buf = "";
     v = strtod(buf, &end);
     PetscCheck(buf[0] && !*end && isfinite(v), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number", name[k], buf);
     PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], buf);
