@@ -240,10 +240,10 @@ for ranks in (1, 2):
     e = max(s.get("error", {}).get(k, 1) for k in ("sigma_yy_max_rel", "sigma_xx_max_rel", "sigma_xy_max_rel")) if s else 1
     report(rc == 0 and abs(s["contact_force"] / 1e6 - 1) < 1e-10 and e < 1e-10, "a 311-character pressure is read whole [%d rank%s]" % (ranks, "s" if ranks > 1 else ""),
            "exit %d, force %s, patch error %.1e" % (rc, s.get("contact_force"), e))
-bad("a body name longer than the program holds", PATCH + ["-bodies", "lower,upper" + "x" * 300], ["option -bodies", "305 characters long, more than the 127 allowed"])
+bad("a body name longer than the program holds", PATCH + ["-bodies", "lower,upper" + "x" * 300], ["option -bodies", "305 characters, longer than the 127 allowed"])
 bad("a group name longer than the program holds", PATCH + ["-pressure", "x" * 200 + ":1e6"], ["option -pressure", "longer than 127 characters"])
-bad("an output name longer than the program holds", PATCH + ["-output_name", "y" * 300], ["option -output_name", "300 characters long"])
-bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 5000], ["option -lower_E", "5001 characters long"])
+bad("an output name longer than the program holds", PATCH + ["-output_name", "y" * 300], ["option -output_name", "300 characters, longer than"])
+bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 5000], ["option -lower_E", "5001 characters, longer than the 4095 allowed"])
 # an options file with a NUL byte: PETSc reads the line up to it
 scene = open(opts("patch_uniform"), "rb").read()
 with open(os.path.join(W, "nul.opts"), "wb") as f:

@@ -48,7 +48,10 @@ static int Record(const char *key, const char *file)
 
   for (int i = 0; i < ngiven; i++)
     if (!strcasecmp(given[i].name, name)) {
-      if (!file) given[i].file = NULL; /* typed by the user as well */
+      if (!file) { /* typed by the user as well */
+        free(given[i].file);
+        given[i].file = NULL;
+      }
       return 0;
     }
   if (ngiven == capgiven) {

@@ -46,7 +46,7 @@ static PetscErrorCode Raw(PetscOptionItems *PetscOptionsObject, const char *name
   value[0] = 0;
   PetscCall(PetscOptionsFindPair(PetscOptionsObject->options, PetscOptionsObject->prefix, name, &v, set));
   if (*set && v && strlen(v) >= VALUE_LEN) { /* no reader's form: PETSc is not asked to parse it */
-    PetscCall(M2dOptionsDefer("option %s: its value is %zu characters long, more than the %d allowed", full, strlen(v), VALUE_LEN - 1));
+    PetscCall(M2dOptionsDefer("option %s: its value is %zu characters, longer than the %d allowed", full, strlen(v), VALUE_LEN - 1));
     PetscCall(PetscStrncpy(value, "(too long)", VALUE_LEN));
   } else if (*set && v) PetscCall(PetscStrncpy(value, v, VALUE_LEN));
   PetscFunctionReturn(0);
@@ -56,7 +56,7 @@ static PetscErrorCode Raw(PetscOptionItems *PetscOptionsObject, const char *name
 static PetscErrorCode CheckFits(const char *full, const char *text, size_t len)
 {
   PetscFunctionBeginUser;
-  if (len && strlen(text) >= len) PetscCall(M2dOptionsDefer("option %s: '%.40s...' is %zu characters long, more than the %zu allowed", full, text, strlen(text), len - 1));
+  if (len && strlen(text) >= len) PetscCall(M2dOptionsDefer("option %s: '%.40s...' is %zu characters, longer than the %zu allowed", full, text, strlen(text), len - 1));
   PetscFunctionReturn(0);
 }
 
