@@ -19,8 +19,8 @@ static int  nknown;
  * first check leaves them to the second) */
 static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "iterative_", "dual_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
 
-/* PETSc options users type most, for "did you mean" and as names that are
- * legitimately unread when the path in use has no object that reads them */
+/* PETSc options users type most, for "did you mean" and as names known to
+ * PETSc (unread when the solvers are configured: no effect on that path) */
 static const char *const petsc_common[] = {
   "ksp_type", "ksp_rtol", "ksp_atol", "ksp_divtol", "ksp_max_it", "ksp_monitor", "ksp_monitor_true_residual", "ksp_monitor_short", "ksp_converged_reason", "ksp_view", "ksp_gmres_restart", "ksp_norm_type", "ksp_pc_side", "ksp_error_if_not_converged", "ksp_initial_guess_nonzero", "ksp_converged_rate",
   "pc_type", "pc_factor_mat_solver_type", "pc_factor_mat_ordering_type", "pc_factor_shift_type", "pc_factor_shift_amount", "pc_factor_levels", "pc_factor_fill", "pc_fieldsplit_type", "pc_fieldsplit_schur_fact_type", "pc_fieldsplit_schur_precondition", "pc_fieldsplit_detect_saddle_point", "pc_fieldsplit_block_size", "pc_hypre_type", "pc_gamg_threshold", "pc_gamg_agg_nsmooths", "pc_mg_levels", "pc_asm_overlap", "pc_bjacobi_blocks", "pc_use_amat",
@@ -224,7 +224,7 @@ PetscErrorCode M2dOptionsNoEffect(MPI_Comm comm, const char *names, const char *
 }
 
 /* rank 0's unread options that bad() flags and no rank has read, in rank 0's
- * order, copied to (*first)[0..*n-1] (PetscFree it); collective */
+ * order, copied to (*out)[0..*nout-1] (PetscFree it); collective */
 static PetscErrorCode AllUnread(MPI_Comm comm, PetscBool (*bad)(const char *, void *), void *ctx, PetscInt *nout, char (**out)[NAME_LEN])
 {
   PetscInt    n = 0;
