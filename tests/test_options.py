@@ -100,11 +100,11 @@ bad("PETSc option nothing reads", BLOCK + ["-dm_refine", "2"], ["-dm_refine"])
 good("viewers, reports and finalize-time options", BLOCK + ["-ksp_converged_reason", "-ksp_view", ":" + os.path.join(W, "kspview.txt"),
                                                             "-options_left", "no", "-malloc_dump", "-log_view", ":" + os.path.join(W, "log.txt")])
 good("full path with PETSc's MUMPS options", PATCH + ["-kkt_path", "full", "-options_file", opts("kkt_mumps"), "-mat_mumps_icntl_24", "1", "-snes_max_it", "20"])
-good("condensed path given PETSc solver options it does not use", PATCH + ["-options_file", opts("kkt_mumps"), "-mat_mumps_cntl_1", "0.01", "-snes_rtol", "1e-10"])
+good("condensed path with PETSc's MUMPS options on the full path", PATCH + ["-kkt_path", "full", "-options_file", opts("kkt_mumps"), "-mat_mumps_cntl_1", "0.01", "-snes_rtol", "1e-10"])
 good("fieldsplit (kkt_fieldsplit.opts)", PATCH + ["-options_file", opts("kkt_fieldsplit")])
 good("PETSc's partitioner options", PATCH + ["-mesh_partitioner", "petsc", "-petscpartitioner_type", "simple"])
-good("option names are case-insensitive (as PETSc)", BLOCK + ["-Block_E", "1e9", "-CONTACT_METHOD", "mortar"])
-good("PETSc tolerances inside their domain", PATCH + ["-ksp_rtol", "1e-8", "-snes_stol", "1e-8", "-snes_max_it", "2147483647"], ranklist=(1,))
+good("option names are case-insensitive (as PETSc)", PATCH + ["-Lower_E", "1e9", "-CONTACT_METHOD", "mortar"])
+good("PETSc tolerances inside their domain", PATCH + ["-kkt_path", "full", "-ksp_rtol", "1e-8", "-snes_stol", "1e-8", "-snes_max_it", "2147483647"], ranklist=(1,))
 good("automatic values said explicitly", HERTZ0 + ["-contact_c", "auto", "-contact_reach", "AUTO", "-hertz_load", "auto"], ranklist=(1,))
 
 # ---------- 2. values outside their domain ----------
@@ -180,7 +180,8 @@ with open(os.path.join(elsewhere, "block.msh"), "w") as f:
     f.write("$MeshFormat\n")  # a broken block.msh here must win over the build's
 bad("a mesh name found in the current directory wins", ["-options_file", opts("block")], ["block.msh"], ranklist=(1,), cwd=elsewhere)
 bad("-mesh_dir without the file", BLOCK + ["-mesh_dir", W], ["-mesh", "block.msh", W], ranklist=(1, 2))
-good("-geo by name, from the source tree's meshes/", ["-options_file", opts("block"), "-mesh", mesh("block"), "-geo", "block.geo"], ranklist=(1,), cwd=elsewhere)
+# found (the check of its use comes after): without -adapt it has no effect
+bad("-geo by name, from the source tree's meshes/", ["-options_file", opts("block"), "-mesh", mesh("block"), "-geo", "block.geo", "-output_dir", OUT], ["option -geo has no effect without -adapt"], ranklist=(1,), cwd=elsewhere)
 bad("-geo that is nowhere", BLOCK + ["-geo", "nosuch.geo"], ["-geo", "nosuch.geo"], ranklist=(1,))
 
 # ---------- -hertz_radius R1,R2: the effective radius R1 R2/(R1 + R2) ----------
@@ -193,5 +194,63 @@ def hertz_a(extra, name):
 (a1, _), (a2, out2) = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3,1.5"], "radius_3_1.5")
 report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3,1.5 is R = 1", "a = %s and %s" % (a1, a2))
 report(re.search(r"radii 3\.? and 1\.5, effective radius R = R1 R2/\(R1 \+ R2\) = 1\.?\n", out2) is not None, "the output states the effective radius")
+
+# ---------- 5. options that do nothing, values cut, files cut (issue 22 items 9, 10) ----------
+# an option with no effect in the set-up is refused when typed, like a typo ...
+for what, args, culprits in [
+        ("-hertz_radius without -hertz", PATCH + ["-hertz_radius", "2"], ["option -hertz_radius has no effect without -hertz"]),
+        ("-adapt_target without -adapt", BLOCK + ["-adapt_target", "0.1"], ["option -adapt_target has no effect without -adapt"]),
+        ("-geo_setnumber without -adapt", BLOCK + ["-geo_setnumber", "n=8"], ["option -geo_setnumber has no effect without -adapt"]),
+        ("-mortar_basis dual -contact_method nts", PATCH + ["-mortar_basis", "dual", "-contact_method", "nts"], ["option -mortar_basis has no effect with -contact_method nts"]),
+        ("-iterative_ksp_rtol off the iterative path", PATCH + ["-iterative_ksp_rtol", "1e-8"], ["option -iterative_ksp_rtol has no effect on the condensed path"]),
+        ("-pc_type on the condensed path", PATCH + ["-pc_type", "lu"], ["option -pc_type has no effect on the condensed path", "-kkt_path full"]),
+        ("PETSc's MUMPS option on the condensed path", PATCH + ["-mat_mumps_cntl_1", "0.01"], ["option -mat_mumps_cntl_1 has no effect on the condensed path"]),
+        ("-snes_rtol on the tied path", PATCH + ["-contact_unilateral", "0", "-snes_rtol", "1e-8"], ["option -snes_rtol has no effect on the tied path"]),
+        ("-snes_type without contact", BLOCK + ["-snes_type", "vinewtonrsls"], ["option -snes_type has no effect on the linear path"]),
+        ("-kkt_ldlt on the full path", PATCH + ["-kkt_path", "full", "-kkt_ldlt", "0"], ["option -kkt_ldlt has no effect on the full path"]),
+        ("-contact_c without a contact pair", BLOCK + ["-contact_c", "1e10"], ["option -contact_c has no effect without a contact pair"]),
+        ("-exact_angle without -exact uniform", PATCH + ["-exact", "none", "-exact_angle", "30"], ["option -exact_angle has no effect without -exact uniform"]),
+        ("-estimator_target with -error_estimate false", PATCH + ["-error_estimate", "0", "-estimator_target", "0.1"], ["option -estimator_target has no effect with -error_estimate false"]),
+        ("-geo_setnumber of a name the .geo lacks", BLOCK + ["-geo", "block.geo", "-adapt", "-geo_setnumber", "nosuch=3"], ["option -geo_setnumber: 'nosuch' is no name in", "block.geo"]),
+        ("a PETSc option read at start-up, misspelt", PATCH + ["-log_vie"], ["option -log_vie is unknown", "did you mean -log_view?"]),
+        ("a PETSc option read at the end, misspelt", PATCH + ["-options_lef"], ["option -options_lef is unknown", "did you mean -options_left?"])]:
+    bad(what, args, culprits)
+
+
+# ... and named on stdout when an options file set it (the command line may
+# change what the file's scene needs): the run goes on
+def noted(name, args, notes):
+    for ranks in (1, 2):
+        r = attempt(args + ["-output_dir", OUT, "-output_vtu", "0"], ranks)
+        ok = r is not None and r[0] == 0 and not r[2] and all(n in r[1] for n in notes)
+        report(ok, "%s [%d rank%s]" % (name, ranks, "s" if ranks > 1 else ""), "exit %s, stderr %s" % (r[0], " | ".join(r[2])[:300]) if r else "hang")
+
+
+noted("hertz.opts (-mortar_basis dual) with -contact_method nts", HERTZ0 + ["-contact_method", "nts"],
+      ["note: option -mortar_basis (set in %s) has no effect with -contact_method nts" % opts("hertz")])
+noted("kkt_mumps.opts on the condensed path", PATCH + ["-options_file", opts("kkt_mumps")],
+      ["note: option -%s (set in %s) has no effect on the condensed path" % (o, opts("kkt_mumps")) for o in ("ksp_type", "pc_type", "pc_factor_mat_solver_type")])
+
+# a value is read whole, or refused (before: cut at 255 characters, "1" and
+# 300 zeros read as 1e244): 1 and 300 zeros e-294 is 1e6, the S2 patch test exact
+for ranks in (1, 2):
+    summary = os.path.join(W, "long_value_%d.json" % ranks)
+    rc, out, err = run(PATCH + ["-pressure", "upper_top:1" + "0" * 300 + "e-294", "-summary", summary, "-output_vtu", "0"], ranks=ranks, check=False, timeout=TIMEOUT)
+    s = json.load(open(summary)) if rc == 0 else {}
+    e = max(s.get("error", {}).get(k, 1) for k in ("sigma_yy_max_rel", "sigma_xx_max_rel", "sigma_xy_max_rel")) if s else 1
+    report(rc == 0 and abs(s["contact_force"] / 1e6 - 1) < 1e-10 and e < 1e-10, "a 311-character pressure is read whole [%d rank%s]" % (ranks, "s" if ranks > 1 else ""),
+           "exit %d, force %s, patch error %.1e" % (rc, s.get("contact_force"), e))
+bad("a body name longer than the program holds", PATCH + ["-bodies", "lower,upper" + "x" * 300], ["option -bodies", "305 characters, longer than the 127 allowed"])
+bad("a group name longer than the program holds", PATCH + ["-pressure", "x" * 200 + ":1e6"], ["option -pressure", "longer than 127 characters"])
+bad("an output name longer than the program holds", PATCH + ["-output_name", "y" * 300], ["option -output_name", "300 characters, longer than"])
+bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 5000], ["option -lower_E", "5001 characters, longer than the 4095 allowed"])
+# an options file with a NUL byte: PETSc reads the line up to it
+scene = open(opts("patch_uniform"), "rb").read()
+with open(os.path.join(W, "nul.opts"), "wb") as f:
+    f.write(scene + b"-output_name cut\0-exact none\n")
+bad("an options file with a NUL byte", ["-options_file", os.path.join(W, "nul.opts"), "-output_dir", OUT], ["nul.opts", "line %d" % (scene.count(b"\n") + 1), "NUL byte"])
+# more options than PETSc holds (512): one line (before: a 533-line trace)
+many = [x for i in range(500) for x in ("-opt%d" % i, str(i))]
+bad("500 more options", PATCH + many, ["different options given", "PETSc holds at most 500"])
 
 T.finish()

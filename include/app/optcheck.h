@@ -1,4 +1,5 @@
-/* optcheck.h - options nobody reads: typos stop the run with the closest name.
+/* optcheck.h - options that do nothing: typos stop the run with the closest
+ * name, options with no effect in the run's set-up are named.
  *
  * PETSc keeps, per option, whether anything has read it. The program's own
  * options are read (options.h) before the check and so are "used"; what is
@@ -9,10 +10,14 @@
  *     objects read (ksp_, pc_, snes_, mat_, fieldsplit_, dm_, log_, ...) is an
  *     error "option -X is unknown (did you mean -Y?)";
  *   M2dOptionsCheckUnused - once the solvers are configured: an unread option
- *     is an error unless it is a known name that is read later or only on some
- *     paths (the list in optcheck.c: viewers, -log_*, -malloc*, -options_*,
- *     MUMPS and other factorization packages' options, PETSc options the
- *     program's solvers take on another path, ...).
+ *     is an error unless it is read later (PetscFinalize's few, viewers,
+ *     factorization packages' options, M2dOptionsReadLater's prefixes); a known
+ *     name (the program's, PETSc's common ones) nobody read has no effect on
+ *     this path: see M2dOptionsNoEffect.
+ * An option given with no effect in the set-up (M2dOptionsNoEffect, and the
+ * known names above) is an error "option -X has no effect WHY" when typed
+ * (command line, PETSC_OPTIONS), a note on stdout when an options file set it
+ * (the command line may have changed what the file's scene needs).
  * Names are compared without the '-' and case-insensitively, as PETSc does. */
 #ifndef M2D_OPTCHECK_H
 #define M2D_OPTCHECK_H
@@ -27,6 +32,15 @@ PetscErrorCode M2dOptionsSuggest(const char *name, char *best, size_t len);
  * PETSc prefix and for which skip (may be NULL) says no; collective on comm */
 PetscErrorCode M2dOptionsCheckUnknown(MPI_Comm comm, PetscBool (*skip)(const char *name, void *ctx), void *ctx);
 /* error for the first option no rank has read, except the documented
- * exceptions (read later or only on some paths); collective on comm */
-PetscErrorCode M2dOptionsCheckUnused(MPI_Comm comm);
+ * exceptions (read later); a known name unread has no effect `why` ("on the
+ * condensed path (...)"); collective on comm */
+PetscErrorCode M2dOptionsCheckUnused(MPI_Comm comm, const char *why);
+/* names (space separated, with or without '-') the user gave have no effect
+ * why (printf-style, e.g. "without -hertz"); a name ending in '*' is a family
+ * of PETSc's options (the program's own, viewers and monitors left out);
+ * collective on comm */
+PetscErrorCode M2dOptionsNoEffect(MPI_Comm comm, const char *names, const char *why, ...) PETSC_ATTRIBUTE_FORMAT(3, 4);
+/* options under prefix (with or without '-') are read after the solvers are
+ * configured in this run (e.g. the dual problem's -dual_); not collective */
+PetscErrorCode M2dOptionsReadLater(const char *prefix);
 #endif

@@ -17,4 +17,12 @@
  * launcher's environment: MPI is not initialised yet) and returns 1. Not
  * collective: every rank runs it on the same files and gets the same answer. */
 int M2dOptionsFilesCheck(int argc, char **argv);
+/* After M2dOptionsFilesCheck: the option names it met (without the '-', each
+ * once, case-insensitively; YAML files are not read), M2dOptionsGiven(i, &file)
+ * for i < M2dOptionsGivenCount(), *file the options file that set it or NULL
+ * when it was typed (command line, PETSC_OPTIONS). More than 500 names is an
+ * error of M2dOptionsFilesCheck (PETSc 3.18 holds 512). A line with a NUL byte
+ * is one too (PETSc would read it only up to that byte). Not collective. */
+int         M2dOptionsGivenCount(void);
+const char *M2dOptionsGiven(int i, const char **file);
 #endif

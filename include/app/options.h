@@ -2,7 +2,8 @@
  *
  * Each reader shows the option in -help (help string, default), records its
  * name as one of the program's (optcheck.h) and checks the value's form: a
- * value that is not a finite number, an integer, a boolean or one of a list is
+ * value that is not a finite number, an integer, a boolean or one of a list,
+ * or too long for the program (never cut), is
  * not raised at once (an error inside PetscOptionsBegin/End leaks the block's
  * strings) but kept, the default used, and raised by M2dOptionsRaise after
  * PetscOptionsEnd as one line naming the option. Only the first one is kept.
@@ -31,11 +32,12 @@ PetscErrorCode M2dOptionsEList(PetscOptionItems *PetscOptionsObject, const char 
 /* The same for an enum variable (PETSc's cast: (PetscEnum *)&s->field), list in
  * the enum's order. */
 PetscErrorCode M2dOptionsEnum(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, const char *const list[], PetscInt n, PetscEnum *value);
-/* string option: value holds the default on entry (len bytes) */
+/* string option: value holds the default on entry (len bytes; a longer value is an error) */
 PetscErrorCode M2dOptionsString(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, char *value, size_t len, PetscBool *set);
-/* comma-separated strings, at most max (more is an error): values[0..*n-1]
- * are allocated with PetscMalloc, the caller frees them with PetscFree */
-PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, char *values[], PetscInt *n);
+/* comma-separated strings, at most max (more is an error), each shorter than
+ * len bytes (longer is an error; 0: no limit): values[0..*n-1] are allocated
+ * with PetscMalloc, the caller frees them with PetscFree */
+PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, size_t len, char *values[], PetscInt *n);
 
 /* keep the first problem found while reading (printf-style, one line) */
 PetscErrorCode M2dOptionsDefer(const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(1, 2);

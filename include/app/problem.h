@@ -50,6 +50,9 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
 /* Contact and assembly stages for solver path `path` (which decides how the
  * KKT blocks are built). Collective. */
 PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly);
+/* What path means for the options, as "on the condensed path (...)": the
+ * reason an option has no effect (optcheck.h). Not collective. */
+const char    *ProblemPathSays(const M2dScene *s, M2dSolverPath path);
 /* Frees everything pb owns. Collective. */
 PetscErrorCode ProblemDestroy(M2dProblem *pb);
 #endif

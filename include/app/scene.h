@@ -109,6 +109,7 @@ typedef struct {
   PetscReal        hertz_load;
   PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */
   PetscReal        exact_p;         /* -exact uniform: the exact -sigma_yy */
+  PetscReal        strain_limit;    /* the largest strain or rotation an answer may reach (verify.h) */
   M2dKKTMat        kkt_mat;
   M2dKKTPath       kkt_path;     /* active-set solves: full, condensed (condensed.h) or iterative (iterative.h) */
   PetscReal        kkt_augment;  /* augmented-Lagrangian weight on the K block (0: off) */

@@ -35,6 +35,11 @@ PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const P
 /* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */
 PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *stress);
 
+/* per local cell, over its 2x2 Gauss points (2 per cell): the largest
+ * principal strain in magnitude (plane stress: and |eps_zz|) and the largest
+ * rotation |u_y,x - u_x,y| / 2. Not collective (u's ghosts: collective). */
+PetscErrorCode ElasticityCellStrain(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *strain);
+
 /* integral of the pressure of load l over its curve (global) */
 PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R);
 

@@ -19,7 +19,9 @@
  * from x/y supports, n or t of the curve from n/t supports; parallel ones
  * once). One inclined direction d gives the vertex a frame with n = d and its
  * dof 0 held; an axis direction holds that component; two independent
- * directions hold both components (u solved from the two conditions). */
+ * directions hold both components (u solved from the two conditions).
+ * Conditions that contradict each other (two values along one direction, a
+ * third direction the other two fix otherwise) make the vertex's values NaN. */
 typedef struct {
   PetscBool  any;    /* some vertex has a frame (on any rank) */
   PetscReal *normal; /* 2 per local vertex (vStart..vEnd): n, or (0, 0) without a frame */

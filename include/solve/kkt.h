@@ -51,6 +51,10 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
  * active[j] = 0 gives -(scale / c) e_j (lambda_j = 0). Rebuilds the augmented
  * block and A. `scale` turns weighted gaps into forces (see activeset.c). */
 PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scale);
+/* A Krylov ksp (not KSPPREONLY: a direct solve passes) that diverged, or, with
+ * settled FALSE (an active set that failed), that solved its steps to a
+ * -ksp_rtol above 1e-8: one line "WHAT: ..." naming its tolerances. Collective. */
+PetscErrorCode KKTKrylovCheck(KSP ksp, const char *what, PetscBool settled);
 /* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
 PetscErrorCode KKTSetupKSP(M2dKKT *kkt, KSP ksp);
 /* solve; u gets the displacement, lam (layout of C's rows) the multipliers */

@@ -13,14 +13,26 @@
 
 #define M2D_VERIFY_TOL 1e-6
 
+/* strains and rotations above this are reported (one line on stdout) */
+#define M2D_STRAIN_WARN 0.01
+
 typedef struct {
   PetscReal residual_rel;    /* equilibrium, relative */
   PetscReal complementarity; /* contact conditions, reference units; 0 without unilateral contact */
+  PetscReal strain_max;      /* the largest strain or rotation (M2dVerifyStrain) */
 } M2dVerification;
 
 /* Compute the checks of sol on pb and fail (one line, collective) if one is
  * above M2D_VERIFY_TOL. Collective on the problem's communicator. */
 PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2dVerification *v);
+/* Small strain: the largest principal strain or rotation of any body (2x2
+ * Gauss points of every cell), into v->strain_max. Above M2D_STRAIN_WARN one
+ * line on stdout names the body, its strain and where; above -strain_limit
+ * (default 0.1) the run stops with that line: the small-strain answer is off
+ * by about the strain (uniaxial: by 1.5 times it) and the body's shape has
+ * changed by as much. u: the physical displacement (frames rotated back).
+ * Collective. */
+PetscErrorCode M2dVerifyStrain(const M2dProblem *pb, Vec u, M2dVerification *v);
 /* The non-mortar nodes without a multiplier (beyond -contact_reach when the
  * rows were built) must not end up inside the mortar body: the linearised gap
  * g0 + (u_nm - u_m).n of each, against the mortar edge it faces, is at least

@@ -1,11 +1,88 @@
 /* adapt.c - the adaptive loop (see adapt.h). */
 #include "adapt.h"
+#include "optcheck.h"
 #include "options.h"
 #include "remesh.h"
 #include "step.h"
 #include "util.h"
+#include <ctype.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+/* whether the .geo text at path, or a file it Includes, has the identifier
+ * name outside comments (gmsh ignores a -setnumber of a name the .geo never
+ * uses); -1 when a file cannot be read */
+static int GeoHasName(const char *path, const char *name, int depth)
+{
+  FILE  *f = depth < 8 ? fopen(path, "r") : NULL;
+  char  *t, *p, *q, inc[PETSC_MAX_PATH_LEN];
+  long   n;
+  int    found = 0, prev_include = 0;
+  size_t len = strlen(name);
+
+  if (!f) return -1;
+  if (fseek(f, 0, SEEK_END) || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) || !(t = calloc((size_t)n + 1, 1))) {
+    fclose(f);
+    return -1;
+  }
+  n = (long)fread(t, 1, (size_t)n, f);
+  fclose(f);
+  for (p = t; !found && p < t + n && *p;) {
+    if (p[0] == '/' && p[1] == '/') p += strcspn(p, "\n");
+    else if (p[0] == '/' && p[1] == '*') p = (q = strstr(p + 2, "*/")) ? q + 2 : t + n;
+    else if (*p == '"') { /* a string: the file name of an Include */
+      q = strchr(p + 1, '"');
+      if (!q) break;
+      if (prev_include && (size_t)(q - p - 1) < sizeof(inc)) {
+        const char *slash = strrchr(path, '/');
+        int         dir   = p[1] == '/' || !slash ? 0 : (int)(slash - path + 1);
+        snprintf(inc, sizeof(inc), "%.*s%.*s", dir, path, (int)(q - p - 1), p + 1);
+        found = GeoHasName(inc, name, depth + 1) == 1;
+      }
+      prev_include = 0;
+      p            = q + 1;
+    } else if (isalpha((unsigned char)*p) || *p == '_') {
+      for (q = p; isalnum((unsigned char)*q) || *q == '_'; q++) { }
+      found        = (size_t)(q - p) == len && !strncmp(p, name, len);
+      prev_include = q - p == 7 && !strncmp(p, "Include", 7);
+      p            = q;
+    } else {
+      if (!isspace((unsigned char)*p)) prev_include = 0;
+      p++;
+    }
+  }
+  free(t);
+  return found;
+}
+
+/* options that need -adapt, and -geo_setnumber names the .geo must use
+ * (optcheck.h); in an adaptive run the solver path may change from mesh to
+ * mesh (-kkt_condensed_max): the paths' own options are not judged per mesh */
+static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao)
+{
+  PetscMPIInt rank;
+  PetscBool   path_given;
+
+  PetscFunctionBeginUser;
+  if (s->help) PetscFunctionReturn(0);
+  if (!ao->enabled) PetscCall(M2dOptionsNoEffect(comm, "-adapt_target -adapt_max_steps -adapt_max_dofs -adapt_goal -adapt_grading -adapt_growth -adapt_quads -geo -geo_setnumber", "without -adapt"));
+  if (ao->enabled && ao->goal == 1) PetscCall(M2dOptionsReadLater("dual_")); /* the dual problem's solver, after the primal's */
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &path_given));
+  if (ao->enabled && !path_given) {
+    const char *later[] = {"kkt_ldlt", "ksp_", "pc_", "fieldsplit_", "mat_mumps_"};
+    for (size_t i = 0; i < sizeof(later) / sizeof(later[0]); i++) PetscCall(M2dOptionsReadLater(later[i]));
+  }
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  for (PetscInt i = 0; ao->enabled && i < ao->nnumber; i++) {
+    int has = 1;
+    if (!strchr(ao->number_name[i], '.') && rank == 0) has = GeoHasName(s->geo, ao->number_name[i], 0); /* Mesh.X: an option of gmsh's */
+    PetscCallMPI(MPI_Bcast(&has, 1, MPI_INT, 0, comm));
+    PetscCheck(has != 0, comm, PETSC_ERR_USER_INPUT, "option -geo_setnumber: '%s' is no name in %s (gmsh would ignore it)", ao->number_name[i], s->geo);
+  }
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOptions *ao)
 {
@@ -31,7 +108,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, num, &nnum));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, 0, num, &nnum));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   for (PetscInt i = 0; i < nnum; i++) {
@@ -55,6 +132,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCheck(ao->growth > 1 && ao->growth <= 64, comm, PETSC_ERR_USER_INPUT, "option -adapt_growth: %g must be in (1, 64] (the size field refines a cell at most 8 times per mesh)", (double)ao->growth);
   PetscCheck(ao->max_dofs >= 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_dofs: %" PetscInt_FMT " must be >= 1", ao->max_dofs);
   PetscCheck(!ao->enabled || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the scene's .geo (-geo FILE)");
+  PetscCall(CheckEffect(comm, s, ao));
   PetscFunctionReturn(0);
 }
 

@@ -23,6 +23,7 @@
 
 #define MAX_DEPTH 64 /* deeper nesting than this is refused (PETSc has no limit) */
 #define NAME_LEN  4096
+#define M2D_MAX_USER_OPTIONS 500 /* PETSc 3.18: 512 (MAXOPTIONS in options.c) */
 
 typedef struct {
   int   depth;                  /* files being read, outermost first */
@@ -30,6 +31,51 @@ typedef struct {
   dev_t dev[MAX_DEPTH];
   ino_t ino[MAX_DEPTH];
 } Scan;
+
+static int Fail(const char *fmt, ...);
+
+/* every option name met (without the '-'), case-insensitively once: where it
+ * was given (file: its name, NULL for the command line and PETSC_OPTIONS) */
+typedef struct {
+  char *name, *file;
+} Given;
+static Given *given;
+static int    ngiven, capgiven;
+
+static int Record(const char *key, const char *file)
+{
+  const char *name = key + (key[1] == '-' ? 2 : 1);
+
+  for (int i = 0; i < ngiven; i++)
+    if (!strcasecmp(given[i].name, name)) {
+      if (!file) { /* typed by the user as well */
+        free(given[i].file);
+        given[i].file = NULL;
+      }
+      return 0;
+    }
+  if (ngiven == capgiven) {
+    Given *g = realloc(given, (size_t)(capgiven = 2 * capgiven + 64) * sizeof(Given));
+    if (!g) return Fail("out of memory reading the options");
+    given = g;
+  }
+  given[ngiven].name = strdup(name);
+  given[ngiven].file = file ? strdup(file) : NULL;
+  if (!given[ngiven].name || (file && !given[ngiven].file)) return Fail("out of memory reading the options");
+  ngiven++;
+  return 0;
+}
+
+int M2dOptionsGivenCount(void)
+{
+  return ngiven;
+}
+
+const char *M2dOptionsGiven(int i, const char **file)
+{
+  if (file) *file = given[i].file;
+  return given[i].name;
+}
 
 static int Fail(const char *fmt, ...)
 {
@@ -107,6 +153,7 @@ static int ScanString(Scan *sc, const char *text, const char *where)
   if (!buf) return Fail("out of memory reading the options %s", where);
   while (!bad && (tok = NextToken(&cur))) {
     int file = !strcasecmp(tok, "-options_file"), yaml = !strcasecmp(tok, "-options_file_yaml");
+    if (ValidKey(tok) && (bad = Record(tok, NULL))) break;
     if (!file && !yaml) continue;
     tok = NextToken(&cur);
     if (!tok) bad = Fail("option %s %s: missing file name", file ? "-options_file" : "-options_file_yaml", where);
@@ -135,6 +182,7 @@ static int ScanLine(const char *file, int line, char *text, char **include, int 
   if (t[0][0] == '-') {
     if (!ValidKey(t[0])) return Fail("options file '%s' line %d: invalid option '%s'", file, line, t[0]);
     if (t[1] && ValidKey(t[1])) return Fail("options file '%s' line %d: two options on one line (%s %s)", file, line, t[0], t[1]);
+    if (Record(t[0], file)) return 1;
     if (!strcasecmp(t[0], "-options_file") || !strcasecmp(t[0], "-options_file_yaml")) {
       if (!t[1]) return Fail("options file '%s' line %d: %s without a file name", file, line, t[0]);
       *include = t[1];
@@ -158,12 +206,15 @@ static int ScanFileLines(Scan *sc, FILE *fp, const char *file)
   char  *text = NULL, where[NAME_LEN + 64];
   size_t cap  = 0;
   int    line = 0, bad = 0;
+  ssize_t n;
 
-  while (!bad && getline(&text, &cap, fp) >= 0) {
-    char *include;
-    int   yaml;
+  while (!bad && (n = getline(&text, &cap, fp)) >= 0) {
+    char *include = NULL;
+    int   yaml    = 0;
     line++;
-    bad = ScanLine(file, line, text, &include, &yaml);
+    /* PETSc reads a line only up to a NUL byte: the rest would be dropped unseen */
+    if (memchr(text, 0, (size_t)n)) bad = Fail("options file '%s' line %d: a NUL byte (PETSc would ignore the rest of the line): is it a text file?", file, line);
+    else bad = ScanLine(file, line, text, &include, &yaml);
     if (!bad && include) {
       snprintf(where, sizeof(where), "in '%s' line %d", file, line);
       bad = ScanFile(sc, include, yaml ? 2 : 1, where);
@@ -268,11 +319,15 @@ int M2dOptionsFilesCheck(int argc, char **argv)
   for (int a = 1; !bad && a < argc;) {
     int file = !strcasecmp(argv[a], "-options_file"), yaml = !strcasecmp(argv[a], "-options_file_yaml");
     if (!ValidKey(argv[a])) a++;
+    else if ((bad = Record(argv[a], NULL))) break;
     else if (file || yaml) {
       if (a + 1 >= argc || argv[a + 1][0] == '-') bad = Fail("option %s: missing file name", argv[a]);
       else bad = ScanFile(&sc, argv[a + 1], file ? 1 : 2, "on the command line");
       a += 2;
     } else a += (a + 1 < argc && !ValidKey(argv[a + 1])) ? 2 : 1;
   }
+  /* PETSc 3.18's table holds 512 names and stops PetscInitialize with a
+   * 500-line trace past them; the program puts up to 12 of its own there */
+  if (!bad && ngiven > M2D_MAX_USER_OPTIONS) bad = Fail("%d different options given (command line, options files, PETSC_OPTIONS, petscrc): PETSc holds at most %d of them for this program; give fewer", ngiven, M2D_MAX_USER_OPTIONS);
   return bad;
 }

@@ -33,16 +33,30 @@ PetscErrorCode M2dOptionsRaise(MPI_Comm comm)
   SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", deferred);
 }
 
-/* the option's value as typed ("" for a bare flag); records the name as ours */
+/* the option's value as typed ("" for a bare flag); records the name as ours.
+ * A value longer than the buffer is refused, not cut (PETSc copies what fits:
+ * "1" and 300 zeros in a 256-byte buffer read as 1e255) */
 static PetscErrorCode Raw(PetscOptionItems *PetscOptionsObject, const char *name, char *full, char *value, PetscBool *set)
 {
-  const char *pre = PetscOptionsObject->prefix ? PetscOptionsObject->prefix : "";
+  const char *pre = PetscOptionsObject->prefix ? PetscOptionsObject->prefix : "", *v = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(full, 256, "-%s%s", pre, name + 1));
   PetscCall(M2dOptionsKnow(full));
   value[0] = 0;
-  PetscCall(PetscOptionsGetString(PetscOptionsObject->options, PetscOptionsObject->prefix, name, value, VALUE_LEN, set));
+  PetscCall(PetscOptionsFindPair(PetscOptionsObject->options, PetscOptionsObject->prefix, name, &v, set));
+  if (*set && v && strlen(v) >= VALUE_LEN) { /* no reader's form: PETSc is not asked to parse it */
+    PetscCall(M2dOptionsDefer("option %s: its value is %zu characters, longer than the %d allowed", full, strlen(v), VALUE_LEN - 1));
+    PetscCall(PetscStrncpy(value, "(too long)", VALUE_LEN));
+  } else if (*set && v) PetscCall(PetscStrncpy(value, v, VALUE_LEN));
+  PetscFunctionReturn(0);
+}
+
+/* text (an option's value) fits len bytes, else the error is kept */
+static PetscErrorCode CheckFits(const char *full, const char *text, size_t len)
+{
+  PetscFunctionBeginUser;
+  if (len && strlen(text) >= len) PetscCall(M2dOptionsDefer("option %s: '%.40s...' is %zu characters, longer than the %zu allowed", full, text, strlen(text), len - 1));
   PetscFunctionReturn(0);
 }
 
@@ -218,11 +232,12 @@ PetscErrorCode M2dOptionsString(PetscOptionItems *PetscOptionsObject, const char
 
   PetscFunctionBeginUser;
   PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
+  if (given) PetscCall(CheckFits(full, buf, len));
   PetscCall(PetscOptionsString(name, help, "", value, value, len, set));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, char *values[], PetscInt *n)
+PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, size_t len, char *values[], PetscInt *n)
 {
   char      full[256], buf[VALUE_LEN], **all;
   PetscBool given;
@@ -238,7 +253,10 @@ PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const
     for (PetscInt i = 0; i < k; i++) PetscCall(PetscFree(all[i]));
     k = 0;
   }
-  for (PetscInt i = 0; i < k; i++) values[i] = all[i];
+  for (PetscInt i = 0; i < k; i++) {
+    PetscCall(CheckFits(full, all[i], len));
+    values[i] = all[i];
+  }
   *n = k;
   PetscCall(PetscFree(all));
   PetscFunctionReturn(0);

@@ -26,6 +26,8 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
     PetscInt d = MeshGroupDim(m, s->dir[i].group);
     PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: mesh file(s) %s have no physical group '%s'", m->files, s->dir[i].group);
     PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: physical group '%s' is a surface; name a curve or a point", s->dir[i].group);
+    /* a point has no normal: G:n and G:t held nothing (before, silently) */
+    PetscCheck(d == 1 || s->dir[i].frame == M2D_BC_XY, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s:%s' needs a curve (its normal), and physical group '%s' is a point; give x, y or xy", s->dir[i].group, s->dir[i].frame == M2D_BC_NORMAL ? "n" : "t", s->dir[i].group);
     PetscCall(CheckNotEmpty(comm, m, s->dir[i].group, "-dirichlet"));
   }
   for (PetscInt i = 0; i < s->nload; i++) {
@@ -116,6 +118,37 @@ static PetscErrorCode NearNullSpace(M2dProblem *pb)
   PetscFunctionReturn(0);
 }
 
+/* a vertex whose supports contradict each other (frames.h: its values NaN;
+ * before, the first -dirichlet entry won, silently): one line naming it */
+static PetscErrorCode CheckSupports(const M2dProblem *pb)
+{
+  const M2dMesh *m    = &pb->mesh;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
+  struct {
+    double      bad;
+    PetscMPIInt rank;
+  } any = {0, 0};
+  double        xy[2] = {0, 0};
+  M2dMeshArrays ar;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &any.rank));
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
+  for (PetscInt v = 0; v < m->vEnd - m->vStart && !any.bad; v++)
+    if (PetscIsInfOrNanReal(pb->frames.value[2 * v]) || PetscIsInfOrNanReal(pb->frames.value[2 * v + 1])) {
+      PetscInt off;
+      PetscCall(PetscSectionGetOffset(ar.cs, m->vStart + v, &off));
+      xy[0]   = PetscRealPart(ar.ca[off]) * pb->units.L;
+      xy[1]   = PetscRealPart(ar.ca[off + 1]) * pb->units.L;
+      any.bad = 1;
+    }
+  PetscCall(MeshArraysClose(&ar));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
+  if (!any.bad) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Bcast(xy, 2, MPI_DOUBLE, any.rank, comm));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -dirichlet: the vertex at (%g, %g) is given two different displacements along one direction by groups that meet there; give it one value", xy[0], xy[1]);
+}
+
 /* K (with room for C^T C, block size 2, rigid-body modes), f, the supports eliminated */
 static PetscErrorCode Assemble(M2dProblem *pb)
 {
@@ -131,6 +164,7 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   PetscCall(DMCreateGlobalVector(m->dm, &pb->f));
   PetscCall(VecDuplicate(pb->f, &pb->ubc));
   PetscCall(M2dFramesCreate(m, &pb->s, &pb->frames));
+  PetscCall(CheckSupports(pb));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
   PetscCall(ElasticityAssemble(m, &pb->s, &pb->frames, pb->K, pb->f));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ELEMENTS], 0, 0, 0, 0));
@@ -192,4 +226,22 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
   PetscCall(MatDestroy(&pb->K));
   PetscCall(MeshDestroy(&pb->mesh));
   PetscFunctionReturn(0);
+}
+
+const char *ProblemPathSays(const M2dScene *s, M2dSolverPath path)
+{
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE && path == M2D_PATH_LINEAR) return "on the linear path (no contact pair) with -kkt_path iterative (one CG + AMG solve, options under -iterative_)";
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE && path == M2D_PATH_TIED) return "on the tied path (-contact_unilateral false) with -kkt_path iterative (one CG + AMG solve, options under -iterative_)";
+  switch (path) {
+  case M2D_PATH_LINEAR:
+    return "on the linear path (no contact pair: one linear solve, no active set)";
+  case M2D_PATH_TIED:
+    return "on the tied path (-contact_unilateral false: one KKT solve, no active set)";
+  case M2D_PATH_CONDENSED:
+    return "on the condensed path (MUMPS called by the program, each active-set step by a dense LU)";
+  case M2D_PATH_FULL:
+    return "on the full path (the KKT matrix by PETSc's KSP and PC, refactored each step)";
+  default:
+    return "on the iterative path (each step by CG + AMG, options under -iterative_)";
+  }
 }

@@ -1,5 +1,6 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
+#include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
 #include "logging.h"
@@ -31,6 +32,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   }
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
+  SummaryReal(sum, "", "strain_max", v->strain_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "units", "length", pb->units.L);
@@ -81,7 +83,7 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   PetscCall(ContactRipple(c, &fig->pressure_ripple, &fig->ripple_nodes));
   SummaryReal(sum, "", "pressure_ripple", fig->pressure_ripple);
   SummaryReal(sum, "", "pressure_estimate", fig->pressure_estimate);
-  if (sol->path != M2D_PATH_TIED) SummaryReal(sum, "", "contact_c", sol->as.c * pb->units.S / (pb->units.L * pb->units.U));
+  if (sol->path != M2D_PATH_TIED) SummaryReal(sum, "", "contact_c", sol->as.c * (pb->units.S / pb->units.L) / pb->units.U);
   if (sol->path == M2D_PATH_CONDENSED) {
     SummaryReal(sum, "", "factor_flops", sol->as.factor_flops);
     SummaryReal(sum, "", "factor_flops_max_rank", sol->as.factor_flops_max);
@@ -149,6 +151,7 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
 {
   const char *recs[] = {"spr", "average"}; /* order of M2dRecovery */
   PetscInt    rec    = M2D_RECOVERY_SPR;
+  PetscBool   help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof(*o)));
@@ -164,6 +167,8 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
   o->recovery = (M2dRecovery)rec;
   PetscCheck(o->size.target_rel > 0 && o->size.target_rel < 1, comm, PETSC_ERR_USER_INPUT, "option -estimator_target: %g must be in (0, 1)", (double)o->size.target_rel);
   PetscCheck(o->size.order_sing > 0 && o->size.order_sing <= o->size.order, comm, PETSC_ERR_USER_INPUT, "option -estimator_order_sing: %g must be in (0, %g]", (double)o->size.order_sing, (double)o->size.order);
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (!o->enabled && !help) PetscCall(M2dOptionsNoEffect(comm, "-estimator_recovery -estimator_target -estimator_order_sing", "with -error_estimate false"));
   PetscFunctionReturn(0);
 }
 
@@ -217,7 +222,7 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
   const M2dContact *ct   = pb->has_contact ? &pb->contact : NULL;
   PetscInt          nlc  = pb->mesh.cEnd - pb->mesh.cStart;
-  PetscReal        *a, *av, *h, *hn, nexp, scale = PetscSqrtReal(pb->units.S * pb->units.U * pb->units.L);
+  PetscReal        *a, *av, *h, *hn, nexp, scale = M2dUnitsEnergyNorm(&pb->units);
   M2dErrorEstimate *est = &fig->est;
   M2dEstimatorOptions eoc = *eo; /* the cap in cells: dofs per cell as on this mesh */
 

@@ -28,8 +28,6 @@
   #define M2D_GEO_DIR "meshes"
 #endif
 
-#define ENTRY_LEN 256 /* one comma-separated entry of -dirichlet, -pressure, -traction */
-
 /* split "a:b:c" in place into at most max fields; max + 1 when there are more */
 static int Split(char *s, char **f, int max)
 {
@@ -77,24 +75,25 @@ static const EntryForm entry_forms[ENTRY_KINDS] = {
  * (options.h), when the number of fields is wrong */
 static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char group[M2D_NAME_LEN], char word[M2D_NAME_LEN], PetscReal v[], int *nv)
 {
-  char *f[5], buf[ENTRY_LEN];
+  char *f[5], *buf;
   int   nf;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(buf, entry, ENTRY_LEN));
+  PetscCall(PetscStrallocpy(entry, &buf));
   nf  = Split(buf, f, 4);
   *nv = -1;
-  if (!(ef->counts >> nf & 1u)) {
-    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
-    PetscFunctionReturn(0);
+  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
+  else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", ef->opt, entry, M2D_NAME_LEN - 1));
+  else {
+    PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
+    if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
+    *nv = nf - 1 - ef->words;
+    for (int k = 0; k < *nv; k++) {
+      v[k] = 0;
+      PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
+    }
   }
-  PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
-  if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
-  *nv = nf - 1 - ef->words;
-  for (int k = 0; k < *nv; k++) {
-    v[k] = 0;
-    PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
-  }
+  PetscCall(PetscFree(buf));
   PetscFunctionReturn(0);
 }
 
@@ -150,7 +149,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscInt          nbodies, k;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -161,7 +160,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, bodies, &nbodies));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
   s->nbody = nbodies;
   for (PetscInt i = 0; i < nbodies; i++) {
     char name[M2D_NAME_LEN + 8];
@@ -188,7 +187,7 @@ static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObjec
   PetscInt n[ENTRY_KINDS];
 
   PetscFunctionBeginUser;
-  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, list[k], &n[k]));
+  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, 0, list[k], &n[k]));
   for (PetscInt i = 0; i < n[ENTRY_DIRICHLET]; i++) PetscCall(ParseDirichlet(list[ENTRY_DIRICHLET][i], &s->dir[s->ndir++]));
   if (n[ENTRY_PRESSURE] + n[ENTRY_TRACTION] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
   for (int k = ENTRY_PRESSURE; k <= ENTRY_TRACTION; k++)
@@ -229,6 +228,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (effective R1 R2/(R1 + R2)), > 0", 2, s->hertz_radii, &s->hertz_nradius));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -270,7 +270,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   /* by job, as the options are read; every other field 0 */
   *s = (M2dScene){
     .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
-    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0},
+    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
     .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
@@ -299,13 +299,15 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
 /* -snes_max_it is PETSc's, which takes 0 or a negative value silently: the program needs >= 1 */
 static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
 {
-  char      buf[256], *end;
-  PetscBool set;
-  long long v;
+  const char *buf = NULL;
+  char       *end;
+  PetscBool   set;
+  long long   v;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_max_it", buf, sizeof(buf), &set));
+  PetscCall(PetscOptionsFindPair(NULL, NULL, "-snes_max_it", &buf, &set)); /* the whole value */
   if (!set) PetscFunctionReturn(0);
+  if (!buf) buf = "";
   v = strtoll(buf, &end, 10);
   PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
   PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
@@ -321,11 +323,13 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
 
   PetscFunctionBeginUser;
   for (size_t k = 0; k < sizeof(name) / sizeof(name[0]); k++) {
-    char      buf[256], *end;
-    PetscBool set;
-    double    v;
-    PetscCall(PetscOptionsGetString(NULL, NULL, name[k], buf, sizeof(buf), &set));
+    const char *buf = NULL;
+    char       *end;
+    PetscBool   set;
+    double      v;
+    PetscCall(PetscOptionsFindPair(NULL, NULL, name[k], &buf, &set)); /* the whole value */
     if (!set) continue;
+    if (!buf) buf = "";
     v = strtod(buf, &end);
     PetscCheck(buf[0] && !*end && isfinite(v), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number", name[k], buf);
     PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], buf);
@@ -344,6 +348,7 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(!s->hertz_load_set || s->hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_load: %g must be > 0 (auto: from the first -pressure)", (double)s->hertz_load);
   PetscCheck(!s->exact_p_set || s->exact_p > 0, comm, PETSC_ERR_USER_INPUT, "option -exact_p: %g must be > 0 (auto: the first -pressure)", (double)s->exact_p);
   PetscCheck(s->mms_amplitude != 0, comm, PETSC_ERR_USER_INPUT, "option -mms_amplitude: must not be 0");
+  PetscCheck(s->strain_limit > 0, comm, PETSC_ERR_USER_INPUT, "option -strain_limit: %g must be > 0", (double)s->strain_limit);
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
@@ -359,6 +364,21 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(!s->hertz || s->hertz_load_set || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
   PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
   PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
+  PetscFunctionReturn(0);
+}
+
+/* options that need another one: named (optcheck.h: an error when typed, a
+ * note when an options file set them); the solver paths' own in solver.c */
+static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load", "without -hertz"));
+  if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle", "without -exact uniform"));
+  if (s->exact != M2D_EXACT_MMS) PetscCall(M2dOptionsNoEffect(comm, "-mms_amplitude", "without -exact mms"));
+  if (!s->contact_nm[0]) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_nonmortar, -contact_mortar)"));
+  else if (s->method == M2D_CONTACT_NTS) PetscCall(M2dOptionsNoEffect(comm, "-mortar_basis", "with -contact_method nts (node-to-segment rows have no multiplier basis)"));
+  if (s->contact_nm[0] && !s->unilateral) PetscCall(M2dOptionsNoEffect(comm, "-contact_c -contact_initial", "with -contact_unilateral false (every candidate node is held closed: no active set)"));
+  if (!s->geo[0]) PetscCall(M2dOptionsNoEffect(comm, "-geo_dir", "without -geo"));
   PetscFunctionReturn(0);
 }
 
@@ -400,6 +420,7 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(M2dOptionsRaise(comm));
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
+  PetscCall(CheckEffect(comm, s));
   PetscCheck(s->nmesh > 0 || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
   for (PetscInt i = 0; i < s->nmesh; i++) {
     char given[PETSC_MAX_PATH_LEN];

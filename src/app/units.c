@@ -55,6 +55,17 @@ static PetscReal LoadStress(const M2dScene *s, const PetscReal lo[2], const Pets
   return S;
 }
 
+/* sqrt(S U L) without the overflow of the product */
+static PetscReal EnergyNorm(PetscReal S, PetscReal U, PetscReal L)
+{
+  return PetscSqrtReal(S) * PetscSqrtReal(U) * PetscSqrtReal(L);
+}
+
+PetscReal M2dUnitsEnergyNorm(const M2dUnits *u)
+{
+  return EnergyNorm(u->S, u->U, u->L);
+}
+
 PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u)
 {
   PetscReal lo[2], hi[2], L, E = 0, S, V = 0;
@@ -76,6 +87,14 @@ PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u)
    * 1e-317, subnormal) exited 0 with stresses wrong by 3e-4 */
   PetscCheck(S >= M2D_UNITS_MIN && S <= M2D_UNITS_MAX && S * (L / E) >= M2D_UNITS_MIN && S * (L / E) <= M2D_UNITS_MAX, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT,
              "the loads and prescribed displacements give stresses of about %g and displacements of about %g (largest E %g, size %g): double precision keeps results only within [%g, %g]; state the loads, moduli and lengths in other units", (double)S, (double)(S * (L / E)), (double)E, (double)L, M2D_UNITS_MIN, M2D_UNITS_MAX);
+  /* and the report's forces S L, energy norms sqrt(S U L) (per unit
+   * thickness) and contact stiffness c ~ E/L^2 (-mesh_scale 1e200 on S2: an
+   * energy norm of inf, null in the summary) */
+  {
+    PetscReal F = S * L, W = EnergyNorm(S, S * (L / E), L), C = E / L / L;
+    PetscCheck(F >= M2D_UNITS_MIN && F <= M2D_UNITS_MAX && W >= M2D_UNITS_MIN && W <= M2D_UNITS_MAX && C >= M2D_UNITS_MIN && C <= M2D_UNITS_MAX, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT,
+               "the scene gives forces of about %g, energy norms of about %g and contact stiffnesses of about %g (stresses %g, largest E %g, size %g): double precision keeps results only within [%g, %g]; state the loads, moduli and lengths in other units", (double)F, (double)W, (double)C, (double)S, (double)E, (double)L, M2D_UNITS_MIN, M2D_UNITS_MAX);
+  }
   u->L = Pow2(L);
   u->E = Pow2(E);
   u->S = Pow2(S);

@@ -8,6 +8,35 @@ typedef struct {
 } XYIdx;
 
 
+/* no row within reach: say whether the non-mortar surface lies inside the
+ * mortar body deeper than the reach (the meshes overlap), or beyond it (a
+ * gap), from its nodes' signed distances to the mortar edges they face */
+static PetscErrorCode NoRows(MPI_Comm comm, const M2dContact *c, const M2dScene *s, PetscReal L)
+{
+  PetscReal deep = 0, near = PETSC_MAX_REAL, ext = PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < c->nm.nnode; i++) {
+    const PetscReal *x = &c->nm.x[2 * i];
+    PetscReal        nn[2];
+    SurfaceNodeNormal(&c->nm, i, nn);
+    for (PetscInt e = 0; e < c->m.nedge; e++) {
+      const PetscReal *a = &c->m.x[2 * c->m.edge[2 * e]], *b = &c->m.x[2 * c->m.edge[2 * e + 1]], *n = &c->m.normal[2 * e];
+      PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]), t, d;
+      if (!(l2 > 0) || nn[0] * n[0] + nn[1] * n[1] >= 0) continue; /* the edge must face the node's surface */
+      t = ((x[0] - a[0]) * (b[0] - a[0]) + (x[1] - a[1]) * (b[1] - a[1])) / l2;
+      if (t < 0 || t > 1) continue;
+      d    = (x[0] - a[0]) * n[0] + (x[1] - a[1]) * n[1]; /* < 0: inside the mortar body */
+      deep = PetscMin(deep, d);
+      near = PetscMin(near, PetscAbsReal(d));
+    }
+  }
+  PetscCheck(!(deep < -c->reach), comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: '%s' lies up to %g inside body '%s', behind '%s' (the meshes overlap by %.0f%% of that surface's extent %g), deeper than -contact_reach %g: move the bodies apart in the mesh (or raise -contact_reach past the overlap)",
+             s->contact_nm, s->contact_m, s->contact_nm, (double)(-deep * L), c->m.body >= 0 ? s->body[c->m.body].name : "?", s->contact_m, (double)(-100 * deep / ext), (double)(ext * L), (double)(L * c->reach));
+  PetscCheck(near == PETSC_MAX_REAL, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces are %g apart where they face each other, more than -contact_reach %g: raise -contact_reach or close the gap", s->contact_nm, s->contact_m, (double)(near * L), (double)(L * c->reach));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)(L * c->reach));
+}
+
 PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2dContact *c)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
@@ -22,7 +51,7 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
-  PetscCheck(c->R.n > 0, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)(L * c->reach));
+  if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));
   PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == M2D_CONTACT_MORTAR ? (s->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
   PetscFunctionReturn(0);
 }

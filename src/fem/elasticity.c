@@ -418,6 +418,36 @@ PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ElasticityCellStrain(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *strain)
+{
+  M2dMeshArrays ar;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshArraysOpen(m, u, &ar));
+  for (PetscInt c = m->cStart; c < m->cEnd; c++) {
+    PetscReal xy[8], ue[8], N[4], dN[8], eps[3], *out = &strain[2 * (c - m->cStart)];
+    PetscInt  idx[8], b = m->cellbody[c - m->cStart];
+    MeshCellCoordinates(m, ar.ca, ar.cs, c, xy);
+    PetscCall(CellDofs(m, ar.lsec, c, idx));
+    for (int k = 0; k < 8; k++) ue[k] = PetscRealPart(ar.ua[idx[k]]);
+    out[0] = out[1] = 0;
+    for (int i = 0; i < 2; i++)
+      for (int j = 0; j < 2; j++) {
+        PetscReal mean, radius, w = 0, nu = s->body[b].nu;
+        Q4Shape(xy, g2[i], g2[j], N, dN);
+        Q4Strain(dN, ue, eps);
+        for (int a = 0; a < 4; a++) w += 0.5 * (dN[2 * a] * ue[2 * a + 1] - dN[2 * a + 1] * ue[2 * a]); /* (u_y,x - u_x,y) / 2 */
+        mean   = 0.5 * (eps[0] + eps[1]);
+        radius = PetscSqrtReal(PetscSqr(0.5 * (eps[0] - eps[1])) + PetscSqr(0.5 * eps[2]));
+        out[0] = PetscMax(out[0], PetscAbsReal(mean) + radius);
+        if (s->plane == M2D_PLANE_STRESS) out[0] = PetscMax(out[0], PetscAbsReal(nu / (1 - nu) * (eps[0] + eps[1]))); /* eps_zz */
+        out[1] = PetscMax(out[1], PetscAbsReal(w));
+      }
+  }
+  PetscCall(MeshArraysClose(&ar));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ElasticityMMSError(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *err, PetscReal *norm, PetscReal *hmax)
 {
   M2dMeshArrays ar;

@@ -1,5 +1,6 @@
 /* frames.c - supports on inclined boundaries (see frames.h). */
 #include "frames.h"
+#include <math.h>
 
 /* the points of support k on this rank: a vertex, or both vertices of an edge */
 static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, PetscInt *nv, PetscInt **verts, PetscReal **dirs)
@@ -85,12 +86,31 @@ static PetscErrorCode SupportAtVertices(const M2dMesh *m, const M2dDirichlet *bc
   PetscFunctionReturn(0);
 }
 
-/* add the constraint u.d = V to vertex v's list (directions kept independent) */
+/* two values of one displacement (reference units) that differ: the vertex's
+ * conditions contradict each other */
+static PetscBool Differ(PetscReal a, PetscReal b)
+{
+  return (PetscBool)(PetscAbsReal(a - b) > 1e-12 * (1 + PetscAbsReal(a) + PetscAbsReal(b)));
+}
+
+/* add the constraint u.d = V to vertex v's list (directions kept independent);
+ * one that contradicts those held (another value along a held direction, or
+ * a third direction the two held ones fix otherwise) makes the vertex's
+ * values NaN (frames.h; before, the first value won, silently) */
 static void AddConstraint(PetscInt *n, PetscReal dir[][2], PetscReal val[], const PetscReal d[2], PetscReal V)
 {
   for (PetscInt k = 0; k < *n; k++)
-    if (PetscAbsReal(dir[k][0] * d[1] - dir[k][1] * d[0]) < 1e-10) return; /* parallel to one already held */
-  if (*n == 2) return;
+    if (PetscAbsReal(dir[k][0] * d[1] - dir[k][1] * d[0]) < 1e-10) { /* parallel to one already held */
+      if (Differ(val[k], V * (dir[k][0] * d[0] + dir[k][1] * d[1]))) val[k] = NAN;
+      return;
+    }
+  if (*n == 2) {
+    PetscReal det = dir[0][0] * dir[1][1] - dir[0][1] * dir[1][0], u[2];
+    u[0] = (val[0] * dir[1][1] - val[1] * dir[0][1]) / det;
+    u[1] = (dir[0][0] * val[1] - dir[1][0] * val[0]) / det;
+    if (Differ(u[0] * d[0] + u[1] * d[1], V)) val[0] = NAN;
+    return;
+  }
   dir[*n][0] = d[0];
   dir[*n][1] = d[1];
   val[(*n)++] = V;

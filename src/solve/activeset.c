@@ -226,6 +226,12 @@ static PetscErrorCode Failed(SNES snes, M2dActiveSet *as, SNESConvergedReason re
     PetscCheck(ratio <= 1e6 || !(as->hist.failed || (reason == SNES_DIVERGED_MAX_IT && steps >= 50)), comm, PETSC_ERR_NOT_CONVERGED, "active set %s after %" PetscInt_FMT " steps: the moduli of '%s' and '%s' differ by a factor %.1e and round-off decides the contact state; bring -%s_E within 1e6 of -%s_E (a body a million times stiffer is rigid for the other)",
                as->hist.failed ? "keeps cycling" : "did not settle", steps, pb->s.body[soft].name, pb->s.body[stiff].name, (double)ratio, pb->s.body[soft].name, pb->s.body[stiff].name);
   }
+  if (!as->cond && !as->iter) { /* the full path's KSP, from the options */
+    char what[64];
+    if (kr < 0) PetscCall(PetscSNPrintf(what, sizeof(what), "linear solve in active-set step %" PetscInt_FMT " failed", steps));
+    else PetscCall(PetscSNPrintf(what, sizeof(what), "active set %s after %" PetscInt_FMT " steps", as->hist.failed ? "keeps cycling" : "did not settle", steps));
+    PetscCall(KKTKrylovCheck(ksp, what, PETSC_FALSE));
+  }
   PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)(as->c * CUser(as->pb)));
   PetscCheck(reason != SNES_DIVERGED_MAX_IT, comm, PETSC_ERR_NOT_CONVERGED, "active set did not settle in %" PetscInt_FMT " steps (-snes_max_it)", steps);
   if (kr < 0) {
@@ -271,7 +277,7 @@ static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path,
   PetscFunctionBeginUser;
   PetscCall(ConfigureSNES(snes, as, path));
   if (path == M2D_PATH_ITERATIVE) PetscCall(ActiveSetSetupIterative(snes, as));
-  PetscCall(M2dOptionsCheckUnused(comm)); /* the solvers are configured: an option nobody read is a typo */
+  PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&as->pb->s, path))); /* the solvers are configured: an option nobody read is a typo */
   if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(ActiveSetSetupCondensed(snes, as, info));
   else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;

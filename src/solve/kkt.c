@@ -1,5 +1,6 @@
 /* kkt.c - assemble and solve the contact saddle-point system (see kkt.h). */
 #include "kkt.h"
+#include <string.h>
 
 static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat *C)
 {
@@ -278,5 +279,27 @@ PetscErrorCode KKTDestroy(M2dKKT *kkt)
   PetscCall(VecDestroy(&kkt->r));
   PetscCall(VecDestroy(&kkt->b));
   PetscCall(VecDestroy(&kkt->x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTKrylovCheck(KSP ksp, const char *what, PetscBool settled)
+{
+  KSPType            type;
+  KSPConvergedReason kr;
+  PetscReal          rtol;
+  PetscInt           maxit, its;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)ksp);
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetType(ksp, &type));
+  if (!strcmp(type, KSPPREONLY)) PetscFunctionReturn(0); /* a direct solve */
+  PetscCall(KSPGetConvergedReason(ksp, &kr));
+  PetscCall(KSPGetTolerances(ksp, &rtol, NULL, NULL, &maxit));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  PetscCheck(kr >= 0, comm, PETSC_ERR_NOT_CONVERGED, "%s: -ksp_type %s stopped after %" PetscInt_FMT " iterations (%s; -ksp_rtol %g, -ksp_max_it %" PetscInt_FMT "): raise -ksp_max_it, choose a better -pc_type, or solve directly (the default: no -ksp_type)", what, type, its, KSPConvergedReasons[kr], (double)rtol, maxit);
+  /* an inexact Newton step moves the multipliers by its error: the set may
+   * never settle (S2, full path, -ksp_type gmres -pc_type jacobi -ksp_rtol 0.9:
+   * "did not settle in 50 steps") */
+  PetscCheck(settled || rtol <= 1e-8, comm, PETSC_ERR_NOT_CONVERGED, "%s: its steps are solved only to -ksp_rtol %g (-ksp_type %s), and an active set needs exact steps: -ksp_rtol 1e-12, or solve directly (the default: no -ksp_type)", what, (double)rtol, type);
   PetscFunctionReturn(0);
 }

@@ -36,10 +36,29 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
   PetscFunctionReturn(0);
 }
 
+/* the options that do nothing on the path chosen (optcheck.h) */
+static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, M2dSolverPath path, PetscBool auto_path)
+{
+  const char *why = ProblemPathSays(s, path);
+
+  PetscFunctionBeginUser;
+  if (path != M2D_PATH_CONDENSED) PetscCall(M2dOptionsNoEffect(comm, "-kkt_ldlt", "%s", why));
+  if (!auto_path) PetscCall(M2dOptionsNoEffect(comm, "-kkt_condensed_max", "%s", path == M2D_PATH_CONDENSED || path == M2D_PATH_FULL ? "with -kkt_path, -kkt_mat nest or -snes_type vinewtonrsls (the path is not chosen by the contact surface's length)" : why));
+  if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) {
+    PetscCall(M2dOptionsNoEffect(comm, "snes_*", "%s", why));
+    if (s->kkt_path != M2D_KKT_PATH_ITERATIVE) PetscCall(M2dOptionsNoEffect(comm, "-kkt_path", "%s", why));
+  }
+  if (path == M2D_PATH_LINEAR) PetscCall(M2dOptionsNoEffect(comm, "-kkt_mat -kkt_augment", "%s", why));
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(M2dOptionsNoEffect(comm, "-kkt_mat -kkt_ordering -mat_mumps_icntl_4 -mat_mumps_icntl_7 -mat_mumps_icntl_8 -mat_mumps_icntl_14 -mat_mumps_icntl_58 mat_mumps_*", "%s", why));
+  /* read by the SNES's KSP, then replaced by the path's own step solver */
+  if (path == M2D_PATH_CONDENSED || path == M2D_PATH_ITERATIVE) PetscCall(M2dOptionsNoEffect(comm, "ksp_* pc_* fieldsplit_* mat_mumps_*", "%s: PETSc's KSP, PC and MUMPS options act on -kkt_path full", why));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
 {
   char      st[64];
-  PetscBool set, vi;
+  PetscBool set, vi, auto_path = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
@@ -53,8 +72,13 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m,
     if (s->kkt_mat == M2D_KKT_NEST || vi) {
       *path = M2D_PATH_FULL;
       PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
-    } else PetscCall(CondensedOrFull(comm, s, m, path));
+    } else {
+      PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &set));
+      auto_path = (PetscBool)!set;
+      PetscCall(CondensedOrFull(comm, s, m, path));
+    }
   }
+  if (m && !s->help) PetscCall(CheckEffect(comm, s, *path, auto_path));
   PetscFunctionReturn(0);
 }
 
@@ -98,6 +122,7 @@ static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal au
   PetscFunctionBeginUser;
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   if (reason > 0) PetscFunctionReturn(0);
+  PetscCall(KKTKrylovCheck(ksp, "linear solve failed", PETSC_TRUE));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
   PetscCheck(!(fs && contact && augment == 0), comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed (%s): the fieldsplit K block cannot be factored when a body is held only by contact; add -kkt_augment 1 or use the monolithic solver (options/kkt_mumps.opts)", KSPConvergedReasons[reason]);
@@ -115,7 +140,7 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
     KSP ksp;
     PetscCall(M2dIterativeCreateKSP(comm, &ksp));
     PetscCall(KSPSetOperators(ksp, pb->K, pb->K));
-    PetscCall(M2dOptionsCheckUnused(comm));
+    PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&pb->s, sol->path)));
     PetscCall(KSPSolve(ksp, pb->f, sol->u));
     PetscCall(LinearSolveFailed(ksp, PETSC_FALSE, 0));
     PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
@@ -124,7 +149,7 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
     M2dIterative    *it;
     M2dIterativeInfo ii;
     PetscCall(M2dIterativeCreate(&pb->kkt, &pb->Rkkt, pb->ndir, pb->drows, &it));
-    PetscCall(M2dOptionsCheckUnused(comm));
+    PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&pb->s, sol->path)));
     PetscCall(VecSet(sol->active, 1.0));
     PetscCall(M2dIterativeSetActive(it, sol->active, 1.0, 1.0)); /* rows C_j u = r_j */
     PetscCall(M2dIterativeSolve(it, pb->kkt.b, pb->kkt.x));
@@ -149,7 +174,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
   PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
   if (contact) PetscCall(KKTSetupKSP(&pb->kkt, ksp));
-  PetscCall(M2dOptionsCheckUnused(PetscObjectComm((PetscObject)ksp))); /* the solver is configured: an option nobody read is a typo */
+  PetscCall(M2dOptionsCheckUnused(PetscObjectComm((PetscObject)ksp), ProblemPathSays(&pb->s, sol->path))); /* the solver is configured: an option nobody read is a typo */
   if (contact) {
     PetscCall(KKTSolve(&pb->kkt, ksp, sol->u, sol->lam));
     PetscCall(VecSet(sol->active, 1.0));

@@ -1,5 +1,6 @@
 /* verify.c - the answer's own checks (see verify.h). */
 #include "verify.h"
+#include "elasticity.h"
 #include "logging.h"
 
 static PetscErrorCode Equilibrium(const M2dProblem *pb, const M2dSolution *sol, PetscReal *rel)
@@ -74,6 +75,51 @@ PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2d
     SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: |K u + C^T lambda - f| = %.3e of |f| (tolerance %.0e); the linear solves lost accuracy (try -kkt_path full or a better-conditioned scene: check E, nu and the supports)", (double)v->residual_rel, M2D_VERIFY_TOL);
   }
   PetscCheck(v->complementarity <= M2D_VERIFY_TOL, comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its contact check: complementarity %.3e of the load (tolerance %.0e: a negative pressure, a penetration or both at one node); the active set did not settle (raise -snes_max_it or check -contact_c)", (double)v->complementarity, M2D_VERIFY_TOL);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dVerifyStrain(const M2dProblem *pb, Vec u, M2dVerification *v)
+{
+  const M2dMesh *m    = &pb->mesh;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)u);
+  PetscInt       nc = m->cEnd - m->cStart, cw = -1;
+  PetscReal     *e, scale = pb->units.U / pb->units.L; /* a reference strain in the user's */
+  M2dMeshArrays  ar;
+  struct {
+    double      value;
+    PetscMPIInt rank;
+  } worst = {0, 0};
+  double      where[4] = {0, 0, 0, 0}; /* centre x, y of the cell, body, rotation (1) or strain (0) */
+  const char *body;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &worst.rank));
+  PetscCall(PetscMalloc1(2 * nc + 1, &e));
+  PetscCall(ElasticityCellStrain(m, &pb->s, u, e));
+  for (PetscInt k = 0; k < 2 * nc; k++)
+    if (!(e[k] * scale <= worst.value)) { /* NaN counts as the worst */
+      worst.value = PetscIsInfOrNanReal(e[k] * scale) ? PETSC_INFINITY : e[k] * scale;
+      cw          = k;
+    }
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
+  if (cw >= 0) {
+    PetscReal xy[8];
+    MeshCellCoordinates(m, ar.ca, ar.cs, m->cStart + cw / 2, xy);
+    where[0] = 0.25 * (xy[0] + xy[2] + xy[4] + xy[6]) * pb->units.L;
+    where[1] = 0.25 * (xy[1] + xy[3] + xy[5] + xy[7]) * pb->units.L;
+    where[2] = (double)m->cellbody[cw / 2];
+    where[3] = cw % 2;
+  }
+  PetscCall(MeshArraysClose(&ar));
+  PetscCall(PetscFree(e));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
+  PetscCallMPI(MPI_Bcast(where, 4, MPI_DOUBLE, worst.rank, comm));
+  v->strain_max = worst.value;
+  if (worst.value <= M2D_STRAIN_WARN) PetscFunctionReturn(0);
+  body = pb->s.body[(PetscInt)where[2]].name;
+  PetscCheck(worst.value <= pb->s.strain_limit, comm, PETSC_ERR_USER_INPUT, "body '%s' %s %.3g%s at (%g, %g), more than -strain_limit %g: small-strain theory does not hold there (the answer would be off by about as much); lower the loads, the prescribed displacements or the initial overlap, or make the body stiffer (-%s_E)", body,
+             where[3] ? "rotates by" : "strains by", where[3] ? worst.value : 100 * worst.value, where[3] ? " rad" : "%", where[0], where[1], (double)pb->s.strain_limit, body);
+  PetscCall(PetscPrintf(comm, "warning: body '%s' %s %.3g%s at (%g, %g): small-strain theory is off by about as much (refused above -strain_limit %g)\n", body, where[3] ? "rotates by" : "strains by", where[3] ? worst.value : 100 * worst.value, where[3] ? " rad" : "%", where[0], where[1], (double)pb->s.strain_limit));
   PetscFunctionReturn(0);
 }
 
