@@ -1,7 +1,8 @@
 /* mesh.h - the bodies in one distributed DMPlex.
  *
- * Rank 0 reads the .msh file(s) with the strict reader (msh.h) - or takes an
- * MshMesh filled in memory (MeshCreateFromMsh) -, merges them, reorients
+ * Rank 0 reads the .msh file(s) with the strict reader (msh.h), or the .h5
+ * file -mesh_save wrote, or takes an MshMesh filled in memory
+ * (MeshCreateFromMsh); it merges them, reorients
  * clockwise quads, refuses degenerate or non-convex quads and overlapping cells,
  * checks every physical name the options ask for, and builds the interpolated
  * DMPlex from the cell list (its own edge finder: DMPlexCreateFromDAG, no
@@ -30,9 +31,8 @@ typedef struct {
   char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
 } M2dMesh;
 
-/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh; coordinates
- * times s->mesh_scale) or one .h5 file written by -mesh_save on every rank, and
- * builds *m; fills s->nbody and the body names when s->nbody is 0; writes
+/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh, or one .h5
+ * file written by -mesh_save; coordinates times s->mesh_scale), and builds *m; fills s->nbody and the body names when s->nbody is 0; writes
  * -mesh_save. Bad input: one-line error on every rank, nothing left allocated. */
 PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
 /* Collective on comm. As MeshCreate from nmsh meshes filled in memory on rank 0

@@ -199,9 +199,8 @@ static PetscErrorCode GlobalSizes(M2dMesh *m)
 
 /* Every path ends here with a plex dm (taken), the body of each local cell by
  * point (pbody, taken) and label points lab[2k] = group, lab[2k+1] = point
- * (taken; NULL when dm already carries the labels); distribute: PETSc's
- * partitioner distributes dm on several ranks. */
-PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
+ * (taken); distribute: PETSc's partitioner distributes dm on several ranks. */
+static PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
 {
   PetscMPIInt size;
 
@@ -318,7 +317,7 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
   PetscFunctionReturn(0);
 }
 
-/* the .msh files: read on rank 0, then the common path */
+/* the .msh files (or the .h5 of -mesh_save): read on rank 0, then the common path */
 static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
   PetscMPIInt rank;
@@ -334,7 +333,10 @@ static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(PetscSNPrintf(all, sizeof(all), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
   for (PetscInt f = 0; f < s->nmesh; f++) PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
-  for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) MshRead(s->mesh[f], &msh[f], err, sizeof(err));
+  for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) {
+    if (MeshIsHDF5(s->mesh[f])) MeshReadHDF5(s->mesh[f], &msh[f], err, sizeof(err));
+    else MshRead(s->mesh[f], &msh[f], err, sizeof(err));
+  }
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   if (err[0])
     for (int f = 0; f < 2; f++) MshFree(&msh[f]);
@@ -360,8 +362,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
-  if (MeshIsHDF5(s->mesh[0])) PetscCall(MeshLoad(comm, s, s->mesh[0], m));
-  else PetscCall(CreateFromFiles(comm, s, m));
+  PetscCall(CreateFromFiles(comm, s, m));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   if (save[0]) PetscCall(MeshSave(m, s, save));
   PetscFunctionReturn(0);
