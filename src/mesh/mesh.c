@@ -238,12 +238,12 @@ static PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, D
 }
 
 /* rank 0: the skeleton, its checks and the group entries; a message in err */
-static PetscErrorCode SkeletonAndGroups(const M2dScene *s, const M2dMesh *m, const MeshSources *src, MeshLists *L, MeshSkel *sk, char *err, size_t len)
+static PetscErrorCode SkeletonAndGroups(const M2dScene *s, M2dMesh *m, const MeshSources *src, MeshLists *L, MeshSkel *sk, char *err, size_t len)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscCall(MeshSkelBuild(L->nc, L->nv, L->cells, sk));
-  if (!MeshCheckSkeleton(s, src, L, sk, err, len)) PetscCall(MeshGroupEntries(m, src, L, sk, err, len));
+  if (!MeshCheckSkeleton(s, src, L, sk, err, len)) PetscCall(MeshGroupEntries(m, src, L, sk, m->inner, err, len));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -277,6 +277,7 @@ static PetscErrorCode MeshBuild(MPI_Comm comm, M2dScene *s, const MeshSources *s
     MeshListsFree(&L);
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscCallMPI(MPI_Bcast(m->inner, (int)sizeof(m->inner), MPI_BYTE, 0, comm));
   ierr = BuildPlex(comm, s, &sk, &L, &dm, &pbody, &lab, &nlab);
   if (rank == 0) MeshSkelFree(&sk);
   MeshListsFree(&L);
@@ -395,6 +396,22 @@ PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *op
   PetscCall(DMGetLabel(m->dm, lname, &label));
   PetscCall(DMLabelGetStratumIS(label, 1, is));
   if (!*is) PetscCall(ISCreateGeneral(PETSC_COMM_SELF, 0, NULL, PETSC_COPY_VALUES, is));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt g = 0; g < m->ngroup; g++) {
+    const M2dGroupInner *in = &m->inner[g];
+    const char          *b[2];
+    char                 where[2 * M2D_NAME_LEN + 64];
+    if (strcmp(m->group[g], name) || !in->n) continue;
+    for (int k = 0; k < 2; k++) b[k] = in->body[k] >= 0 && in->body[k] < s->nbody ? s->body[in->body[k]].name : "?";
+    if (in->body[0] == in->body[1]) PetscCall(PetscSNPrintf(where, sizeof(where), "inside body '%s'", b[0]));
+    else PetscCall(PetscSNPrintf(where, sizeof(where), "between bodies '%s' and '%s', which share its nodes", b[0], b[1]));
+    SETERRQ(PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' has %" PetscInt_FMT " edge%s %s (the first from (%g, %g) to (%g, %g), between two cells): %s", option, name, in->n, in->n > 1 ? "s" : "", where, (double)in->xy[0], (double)in->xy[1], (double)in->xy[2], (double)in->xy[3], why);
+  }
   PetscFunctionReturn(0);
 }
 

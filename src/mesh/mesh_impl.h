@@ -75,7 +75,7 @@ int MeshCheckSkeleton(const M2dScene *s, const MeshSources *src, const MeshLists
 /* mesh_plex.c */
 PetscErrorCode MeshSkelBuild(PetscInt nc, PetscInt nv, const PetscInt cells[], MeshSkel *sk);
 void           MeshSkelFree(MeshSkel *sk);
-PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, char *err, size_t len);
+PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, M2dGroupInner inner[], char *err, size_t len);
 PetscErrorCode MeshPlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, PetscInt nel, const PetscInt ccone[], const PetscInt cornt[], const PetscInt econe[], const PetscReal xy[], DM *dm);
 /* mesh_distribute.c: every rank gets its plex, the body of each local cell
  * (pbody, indexed by point, -1 off cells) and its label points (group, point) */
