@@ -10,6 +10,7 @@
  * size; and a view cannot tell the two bodies apart where they touch. */
 #define _GNU_SOURCE /* mkstemps, realpath */
 #include "remesh.h"
+#include "temprecord.h"
 #include <gmshc.h>
 #include <dlfcn.h>
 #include <errno.h>
@@ -21,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -30,6 +32,7 @@ typedef struct {
   size_t      errlen;
   int         failed;
   char        wrapper[PATH_MAX + 64]; /* temporary .geo that sets the numbers, or "" */
+  int         slot;                   /* its entry in the temporary-file table, -1 if none */
 } Ctx;
 
 static double Now(void)
@@ -133,8 +136,12 @@ static int CheckTransfinite(Ctx *c, const char *geo)
 
 static int CheckInput(Ctx *c, const M2dRemeshInput *in)
 {
-  FILE *fp;
+  FILE       *fp;
+  struct stat st;
   if (!in->geo) return Fail(c, "no .geo file given");
+  /* gmsh would read a device or a FIFO for ever (-geo /dev/zero spun) */
+  if (stat(in->geo, &st)) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
+  if (!S_ISREG(st.st_mode)) return Fail(c, "the .geo file is not a regular file (%s)", S_ISDIR(st.st_mode) ? "a directory" : S_ISCHR(st.st_mode) ? "a character device" : S_ISBLK(st.st_mode) ? "a block device" : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISSOCK(st.st_mode) ? "a socket" : "not a file");
   if (!(fp = fopen(in->geo, "r"))) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
   fclose(fp);
   for (int i = 0; i < in->nnumber; i++) {
@@ -162,17 +169,25 @@ static int CheckInput(Ctx *c, const M2dRemeshInput *in)
  * With a size field it also defines m2d_size_field (see remesh.h). */
 static int WriteWrapper(Ctx *c, const M2dRemeshInput *in, char *path)
 {
-  char        abs[PATH_MAX];
-  const char *dir = getenv("TMPDIR");
-  FILE       *fp;
-  int         fd;
+  static unsigned serial;
+  char            abs[PATH_MAX];
+  const char     *dir = getenv("TMPDIR");
+  FILE           *fp  = NULL;
+  int             fd  = -1;
   if (!realpath(in->geo, abs)) return Fail(c, "cannot resolve the path: %s", strerror(errno));
   if (strchr(abs, '"')) return Fail(c, "the path holds a double quote");
-  snprintf(c->wrapper, sizeof(c->wrapper), "%s/m2d_remesh_XXXXXX.geo", dir && *dir ? dir : "/tmp");
-  if ((fd = mkstemps(c->wrapper, 4)) < 0 || !(fp = fdopen(fd, "w"))) {
-    if (fd >= 0) close(fd);
-    Fail(c, "cannot create a temporary file '%s': %s", c->wrapper, strerror(errno));
-    if (fd >= 0) unlink(c->wrapper);
+  /* recorded before it exists (temprecord.h): an interrupt removes it */
+  for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
+    snprintf(c->wrapper, sizeof(c->wrapper), "%s/m2d_remesh_%ld_%u.geo", dir && *dir ? dir : "/tmp", (long)getpid(), serial++);
+    if ((c->slot = M2dTempRecordFile(c->wrapper)) < 0) break;
+    if ((fd = open(c->wrapper, O_WRONLY | O_CREAT | O_EXCL, 0600)) < 0) M2dTempForgetFile(c->slot), c->slot = -1;
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0 || !(fp = fdopen(fd, "w"))) {
+    Fail(c, "cannot create a temporary file '%s': %s", c->wrapper, c->slot < 0 && fd < 0 && errno == EEXIST ? "no free name" : c->slot < 0 && fd < 0 ? "the path is too long or too many temporaries" : strerror(errno));
+    if (fd >= 0) close(fd), unlink(c->wrapper);
+    M2dTempForgetFile(c->slot);
+    c->slot       = -1;
     c->wrapper[0] = 0;
     return 1;
   }
@@ -426,6 +441,25 @@ static int TakePhysicalNames(Ctx *c, MshMesh *m)
   return 0;
 }
 
+/* The nodes the elements use, in one plane z = constant (up to round-off
+ * relative to the mesh's size, as MshRead's rule): else dropping z would
+ * change the geometry. Returns 1 (with the message) if they are not. */
+static int Plane(Ctx *c, const long *renum, const double *coord, size_t nnode)
+{
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, size;
+  size_t zlo = nnode, zhi = nnode; /* the nodes of the lowest and highest z */
+  for (size_t i = 0; i < nnode; i++) {
+    if (renum[i] < 0) continue;
+    for (int d = 0; d < 2; d++) lo[d] = fmin(lo[d], coord[3 * i + d]), hi[d] = fmax(hi[d], coord[3 * i + d]);
+    if (zlo == nnode || coord[3 * i + 2] < coord[3 * zlo + 2]) zlo = i;
+    if (zhi == nnode || coord[3 * i + 2] > coord[3 * zhi + 2]) zhi = i;
+  }
+  if (zlo == nnode) return 0;
+  size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(fabs(coord[3 * zlo + 2]), fabs(coord[3 * zhi + 2])));
+  if (!(coord[3 * zhi + 2] - coord[3 * zlo + 2] > 1e-12 * size)) return 0;
+  return Fail(c, "it is not plane: gmsh put the node at (%g, %g) at z = %g and the one at (%g, %g) at z = %g (mortar2d meshes plane geometry: every point at one z)", coord[3 * zlo], coord[3 * zlo + 1], coord[3 * zlo + 2], coord[3 * zhi], coord[3 * zhi + 1], coord[3 * zhi + 2]);
+}
+
 /* Keep the nodes the elements use, numbered in gmsh's order (that of its .msh). */
 static int Compact(Ctx *c, MshMesh *m, const double *coord, size_t nnode)
 {
@@ -435,6 +469,10 @@ static int Compact(Ctx *c, MshMesh *m, const double *coord, size_t nnode)
   for (long i = 0; i < 4 * m->nquad; i++) renum[m->quad[i]] = 0;
   for (long i = 0; i < 2 * m->nline; i++) renum[m->line[i]] = 0;
   for (long i = 0; i < m->npoint; i++) renum[m->point[i]] = 0;
+  if (Plane(c, renum, coord, nnode)) {
+    free(renum);
+    return 1;
+  }
   for (size_t i = 0; i < nnode; i++)
     if (!renum[i]) renum[i] = n++;
   if (!(m->xy = (double *)malloc((size_t)(n ? n : 1) * 2 * sizeof(double)))) {
@@ -609,6 +647,7 @@ int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, cha
   memset(&c, 0, sizeof(c));
   memset(&d, 0, sizeof(d));
   c.geo    = in ? in->geo : NULL;
+  c.slot   = -1;
   c.err    = err;
   c.errlen = errlen;
   if (err && errlen) err[0] = 0;
@@ -628,6 +667,7 @@ int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, cha
   free(d.quadphys);
   setlocale(LC_ALL, locale);
   if (c.wrapper[0]) unlink(c.wrapper);
+  M2dTempForgetFile(c.slot);
   if (c.failed) {
     MshFree(out);
     return 1;
