@@ -355,7 +355,12 @@ static int H5LabelPoints(H5In *h, const H5Mesh *f, const char *name, long value,
   if (!H5Has(h, path)) return 0;
   if (H5ReadTable(h, path, 1, 1, (void **)pts, n)) return 1;
   for (long i = 0; i < *n; i++)
-    if (H5Size(f, (*pts)[i]) != expect) return H5Bad(h, "label '%s' names point %lld, %s", name, (*pts)[i], H5Size(f, (*pts)[i]) < 0 ? "outside the mesh" : expect == 4 ? "not a cell" : expect == 2 ? "not an edge" : "not a vertex");
+    if (H5Size(f, (*pts)[i]) != expect) {
+      H5Bad(h, "label '%s' names point %lld, %s", name, (*pts)[i], H5Size(f, (*pts)[i]) < 0 ? "outside the mesh" : expect == 4 ? "not a cell" : expect == 2 ? "not an edge" : "not a vertex");
+      free(*pts);
+      *pts = NULL;
+      return 1;
+    }
   return 0;
 }
 
