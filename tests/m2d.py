@@ -21,6 +21,7 @@ import csv
 import json
 import os
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -299,3 +300,115 @@ class Tally:
     def finish(self):
         print("%d passed, %d failed" % (self.passed, self.failed), flush=True)
         raise SystemExit(1 if self.failed else 0)
+
+
+# ---------------------------------------------------------------- fuzzing (mesh_fuzz, mesh_fuzz_h5, geo_fuzz)
+FUZZ_PREFIX = "mortar2d: error: "
+
+
+def shown(text):
+    """text with control characters escaped, safe to print to a log or terminal"""
+    import re
+    return re.sub(r"[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029]", lambda m: "\\x%02x" % ord(m.group(0)), text)
+
+
+def fuzz_case(i, name, desc, args, out, faildir, timeout, ranks=1, inputs=(), keep=False):
+    """Run one fuzz variant (the program with args plus -output_dir out) and
+    judge it by the fuzz contract:
+      ran      exit 0, quiet stderr, the output (.h5, .xmf, .vtu) written;
+      rejected exit 1 and stderr is exactly one line "mortar2d: error: ...";
+      failed   anything else: a signal, another exit code, no exit within
+               `timeout` s, a multi-line or unprefixed error, noise on success,
+               .tmp files left, a traceback or signal message.
+    A failure keeps the inputs (files), the command and the output in faildir.
+    Returns a dict (i, name, desc, rc, outcome, problems, notes, lines, ...)."""
+    import re
+    r = launch(command(list(args) + ["-output_dir", out], ranks), timeout=timeout)
+    rc, so, se = r.rc, r.stdout, r.stderr
+    problems, notes = [], []
+    lines = [l for l in se.splitlines() if l.strip()]
+    files = sorted(os.listdir(out)) if os.path.isdir(out) else []
+    outcome = "failed"
+    if rc is None:
+        problems.append("no exit within %g s (hang?)" % timeout)
+    elif rc == 0:
+        outcome = "ran"
+        if lines:
+            problems.append("exit 0 but stderr is not empty")
+        missing = [n for n in ("h5", "xmf", "vtu") if not any(f.endswith("." + n) for f in files)]
+        if missing:
+            problems.append("exit 0 but no .%s output" % ", .".join(missing))
+        if re.search(r"\b-?(nan|inf)\b", so, re.I):
+            notes.append("nan/inf in stdout")
+    elif rc == 1:
+        outcome = "rejected"
+        if len(lines) != 1 or not lines[0].startswith(FUZZ_PREFIX):
+            problems.append("exit 1 but stderr is not exactly one '%s' line" % FUZZ_PREFIX.strip())
+            ctrl = sorted(set(re.findall(r"[\x00-\x08\x0b-\x1f\x7f\x85\u2028\u2029]", se)))
+            if se.count("\n") == 1 and ctrl:
+                problems.append("the error line (one '\\n') holds raw control characters %s echoed from the input; "
+                                "str.splitlines() and terminals break it at \\x0b \\x0c \\x1c-\\x1e" % " ".join(repr(c) for c in ctrl))
+    else:
+        problems.append("exit code %d%s" % (rc, " (signal %d)" % -rc if rc < 0 else ""))
+    tmp = [f for f in files if ".tmp" in f]
+    if tmp:
+        problems.append("temporary files left in the output dir: %s" % tmp)
+    for bad in ("Traceback", "PETSC ERROR", "Caught signal", "Segmentation", "AddressSanitizer", "MPI_ABORT"):
+        if bad in so or bad in se:
+            problems.append("output contains %r" % bad)
+    if problems:
+        outcome = "failed"
+        os.makedirs(faildir, exist_ok=True)
+        for p in inputs:
+            if os.path.isfile(p):
+                shutil.copy(p, os.path.join(faildir, os.path.basename(p)))
+        with open(os.path.join(faildir, "%03d_%s.txt" % (i, name)), "w") as f:
+            f.write("mutation: %s\ncommand: %s\nexit: %s\nproblems: %s\n--- stdout\n%s--- stderr\n%s" %
+                    (desc, r.cmdline, rc, "; ".join(problems), so, se))
+    if not keep:
+        shutil.rmtree(out, ignore_errors=True)
+        if not problems:
+            for p in inputs:
+                if os.path.isfile(p):
+                    os.remove(p)
+    return dict(i=i, name=name, desc=desc, rc=rc, outcome=outcome, problems=problems, notes=notes,
+                stdout=so, stderr=se, lines=lines, time=r.wall, cmd=r.cmdline)
+
+
+def fuzz_report(results, t0, seed, faildir, groups=()):
+    """Print one line per variant and the summary (per group: the name's
+    prefix before ':'); return the exit code of the test (1 if any failed)."""
+    passed = failed = 0
+    for r in results:
+        ok = not r["problems"]
+        passed += ok
+        failed += not ok
+        detail = r["outcome"] if ok else "; ".join(r["problems"])
+        if ok and r["outcome"] == "rejected":
+            detail += ": " + shown(r["lines"][0][len(FUZZ_PREFIX):][:150])
+        if r["notes"]:
+            detail += " [%s]" % ", ".join(r["notes"])
+        print("%s [%03d %s] %s -- %s" % ("ok  " if ok else "FAIL", r["i"], r["name"], shown(r["desc"]), detail))
+    by = {k: [r for r in results if r["outcome"] == k] for k in ("ran", "rejected", "failed")}
+    print()
+    print("summary: %d variants (seed %d) in %.1f s: %d ran fine (exit 0), %d rejected cleanly (exit 1, one error line), %d failed"
+          % (len(results), seed, time.time() - t0, len(by["ran"]), len(by["rejected"]), len(by["failed"])))
+    for g in groups:
+        rs = [r for r in results if r["name"].split(":")[0] == g]
+        print("  %-18s %3d variants: %3d ran, %3d rejected, %3d failed" % (
+            g, len(rs), sum(r["outcome"] == "ran" for r in rs), sum(r["outcome"] == "rejected" for r in rs),
+            sum(r["outcome"] == "failed" for r in rs)))
+    slow = max(results, key=lambda r: r["time"]) if results else None
+    if slow:
+        print("  slowest: [%03d] %.1f s" % (slow["i"], slow["time"]))
+    sus = [r for r in results if r["notes"]]
+    if sus:
+        print("  note: %d runs exited 0 with nan/inf in their output: %s" % (len(sus), ", ".join("%03d" % r["i"] for r in sus)))
+    if by["failed"]:
+        print("failures (inputs and output kept in %s):" % faildir)
+        for r in by["failed"]:
+            print("  [%03d %s] %s\n    %s\n    %s\n    exit %s, stderr: %s" % (
+                r["i"], r["name"], shown(r["desc"]), "; ".join(r["problems"]), r["cmd"], r["rc"],
+                shown(r["stderr"].rstrip("\n"))[:800] or "(empty)"))
+    print("%d passed, %d failed" % (passed, failed))
+    return 1 if failed else 0

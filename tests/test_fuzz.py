@@ -27,12 +27,11 @@ import os
 import random
 import re
 import shutil
-import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, SRC, mesh, opts, workdir
+from m2d import EXE, fuzz_case, fuzz_report, mesh, opts, workdir
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--seed", type=int, default=20240611)
@@ -42,7 +41,6 @@ ap.add_argument("--keep", action="store_true")
 ap.add_argument("--timeout", type=float, default=30)
 ARGS = ap.parse_args()
 
-PREFIX = "mortar2d: error: "
 W = workdir("fuzz")
 VAR = os.path.join(W, "variants")
 OUTROOT = os.path.join(W, "fuzz_out")
@@ -155,11 +153,6 @@ class Msh:
 
     def coords(self, tag):
         return [float(x) for x in self.lines[self.coord_of[tag]].split()]
-
-
-def shown(text):
-    """text with control characters escaped, safe to print to a log or terminal"""
-    return re.sub(r"[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029]", lambda m: "\\x%02x" % ord(m.group(0)), text)
 
 
 def join(lines):
@@ -693,61 +686,8 @@ def run_variant(i, scene, kind, desc, data):
     path = os.path.join(VAR, "%03d_%s_%s.msh" % (i, scene, kind))
     with open(path, "wb") as f:
         f.write(data)
-    out = os.path.join(OUTROOT, "%03d" % i)
-    cmd = [EXE] + SCENES[scene] + ["-mesh", path, "-output_dir", out, "-contact_monitor", "0"]
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    t0 = time.time()
-    try:
-        p = subprocess.run(cmd, cwd=SRC, capture_output=True, timeout=ARGS.timeout, env=env)
-        rc, so, se = p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
-    except subprocess.TimeoutExpired as e:
-        rc, so, se = None, (e.stdout or b"").decode(errors="replace"), (e.stderr or b"").decode(errors="replace")
-    dt = time.time() - t0
-    problems, notes = [], []
-    lines = [l for l in se.splitlines() if l.strip()]
-    files = sorted(os.listdir(out)) if os.path.isdir(out) else []
-    if rc is None:
-        problems.append("no exit within %g s (hang?)" % ARGS.timeout)
-        outcome = "failed"
-    elif rc == 0:
-        outcome = "ran"
-        if lines:
-            problems.append("exit 0 but stderr is not empty")
-        missing = [n for n in ("h5", "xmf", "vtu") if not any(f.endswith("." + n) for f in files)]
-        if missing:
-            problems.append("exit 0 but no .%s output" % ", .".join(missing))
-        if re.search(r"\b-?(nan|inf)\b", so, re.I):
-            notes.append("nan/inf in stdout")
-    elif rc == 1:
-        outcome = "rejected"
-        if len(lines) != 1 or not lines[0].startswith(PREFIX):
-            problems.append("exit 1 but stderr is not exactly one '%s' line" % PREFIX.strip())
-            ctrl = sorted(set(re.findall(r"[\x00-\x08\x0b-\x1f\x7f\x85\u2028\u2029]", se)))
-            if se.count("\n") == 1 and ctrl:
-                problems.append("the error line (one '\\n') holds raw control characters %s echoed from the file; "
-                                "str.splitlines() (as in m2d.py/test_bad_input.py) and terminals break it at "
-                                "\\x0b \\x0c \\x1c-\\x1e" % " ".join(repr(c) for c in ctrl))
-    else:
-        problems.append("exit code %d%s" % (rc, " (signal %d)" % -rc if rc < 0 else ""))
-    tmp = [f for f in files if ".tmp" in f]
-    if tmp:
-        problems.append("temporary files left in the output dir: %s" % tmp)
-    for bad in ("Traceback", "PETSC ERROR", "Caught signal", "Segmentation", "AddressSanitizer", "MPI_ABORT"):
-        if bad in so or bad in se:
-            problems.append("output contains %r" % bad)
-    if problems:
-        outcome = "failed"
-        keep = os.path.join(FAILDIR, os.path.basename(path))
-        shutil.copy(path, keep)
-        with open(keep + ".txt", "w") as f:
-            f.write("mutation: %s\ncommand: %s\nexit: %s\nproblems: %s\n--- stdout\n%s--- stderr\n%s" %
-                    (desc, " ".join(cmd), rc, "; ".join(problems), so, se))
-    if not ARGS.keep:
-        if not problems:
-            os.remove(path)
-        shutil.rmtree(out, ignore_errors=True)
-    return dict(i=i, scene=scene, kind=kind, desc=desc, rc=rc, outcome=outcome, problems=problems, notes=notes,
-                stdout=so, stderr=se, lines=lines, time=dt, path=path)
+    return fuzz_case(i, "%s:%s" % (scene, kind), desc, SCENES[scene] + ["-mesh", path, "-contact_monitor", "0"],
+                     os.path.join(OUTROOT, "%03d" % i), FAILDIR, ARGS.timeout, inputs=[path], keep=ARGS.keep)
 
 
 def main():
@@ -759,37 +699,7 @@ def main():
     variants = generate(random.Random(ARGS.seed))
     with ThreadPoolExecutor(max_workers=ARGS.jobs) as pool:
         results = list(pool.map(lambda a: run_variant(a[0], *a[1]), enumerate(variants)))
-    passed = failed = 0
-    for r in results:
-        ok = not r["problems"]
-        passed += ok
-        failed += not ok
-        detail = r["outcome"] if ok else "; ".join(r["problems"])
-        if ok and r["outcome"] == "rejected":
-            detail += ": " + shown(r["lines"][0][len(PREFIX):][:150])
-        if r["notes"]:
-            detail += " [%s]" % ", ".join(r["notes"])
-        print("%s [%03d %s] %s -- %s" % ("ok  " if ok else "FAIL", r["i"], r["scene"], r["desc"], detail))
-    by = {k: [r for r in results if r["outcome"] == k] for k in ("ran", "rejected", "failed")}
-    print()
-    print("summary: %d variants (seed %d) in %.1f s: %d ran fine (exit 0), %d rejected cleanly (exit 1, one error line), %d failed"
-          % (len(results), ARGS.seed, time.time() - t0, len(by["ran"]), len(by["rejected"]), len(by["failed"])))
-    for scene in SCENES:
-        rs = [r for r in results if r["scene"] == scene]
-        print("  %-14s %3d variants: %3d ran, %3d rejected, %3d failed" % (
-            scene, len(rs), sum(r["outcome"] == "ran" for r in rs), sum(r["outcome"] == "rejected" for r in rs),
-            sum(r["outcome"] == "failed" for r in rs)))
-    sus = [r for r in results if r["notes"]]
-    if sus:
-        print("  note: %d runs exited 0 with nan/inf in their output: %s" % (len(sus), ", ".join("%03d" % r["i"] for r in sus)))
-    if by["failed"]:
-        print("failures (inputs and output kept in %s):" % FAILDIR)
-        for r in by["failed"]:
-            print("  [%03d %s] %s\n    %s\n    exit %s, stderr: %s" % (
-                r["i"], r["scene"], r["desc"], "; ".join(r["problems"]), r["rc"],
-                shown(r["stderr"].rstrip("\n"))[:800] or "(empty)"))
-    print("%d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
+    return fuzz_report(results, t0, ARGS.seed, FAILDIR, SCENES)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,8 @@ they must exit 0 and PETSc must not list any unfreed memory.
 
 Options: --error-paths also runs, under valgrind, errors found after the mesh
 is set up (a bad material value, a missing contact group, surfaces that never
-face each other) with the same assertions; --jobs N (default 2)."""
+face each other), S2 read from its -mesh_save .h5 and a corrupted .h5, with
+the same assertions; --jobs N (default 2)."""
 import argparse
 import os
 import re
@@ -31,7 +32,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, SRC, Tally, command, launch, mesh, opts, workdir
+from m2d import EXE, SRC, Tally, command, launch, mesh, opts, run, workdir
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--error-paths", action="store_true")
@@ -68,9 +69,29 @@ with open(thin, "w") as f:
     f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 10 \"bottom\"\n0 11 \"origin\"\n2 1 \"block\"\n$EndPhysicalNames\n"
             "$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 2 0 0\n4 0 1e-6 0\n5 1 1e-6 0\n6 2 1e-6 0\n$EndNodes\n"
             "$Elements\n5\n1 1 2 10 1 1 2\n2 1 2 10 1 2 3\n3 15 2 11 1 1\n4 3 2 1 1 1 2 5 4\n5 3 2 1 1 2 3 6 5\n$EndElements\n")
+# a 2 x 1 strip whose curve 'mid' is the edge between its two cells
+strip = os.path.join(W, "strip_mid.msh")
+with open(strip, "w") as f:
+    f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 10 \"bottom\"\n0 11 \"origin\"\n1 12 \"mid\"\n2 1 \"block\"\n$EndPhysicalNames\n"
+            "$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 2 0 0\n4 0 1 0\n5 1 1 0\n6 2 1 0\n$EndNodes\n"
+            "$Elements\n6\n1 1 2 10 1 1 2\n2 1 2 10 1 2 3\n3 15 2 11 1 1\n4 1 2 12 1 2 5\n5 3 2 1 1 1 2 5 4\n6 3 2 1 1 2 3 6 5\n$EndElements\n")
 S2 = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform")]
 if ARGS.error_paths:
+    import h5py
+    # mesh_h5.c: S2 saved by -mesh_save and read back; the same with a label index out of range
+    s2h5, badh5 = os.path.join(W, "s2.h5"), os.path.join(W, "s2_bad_label.h5")
+    run(S2 + ["-mesh_save", s2h5, "-output_dir", os.path.join(W, "save")])
+    shutil.copy(s2h5, badh5)
+    with h5py.File(badh5, "r+") as f:
+        d = f["labels/m2d:upper_top/1/indices"]
+        a = d[...]
+        a[0] = 99999
+        d[...] = a
     CASES += [
+        ("S2 from its .h5 (-mesh_save)", ["-options_file", opts("patch_uniform"), "-mesh", s2h5], 0),
+        ("error path: a .h5 label index out of range", ["-options_file", opts("patch_uniform"), "-mesh", badh5], 1),
+        # problem.c: a load curve with an edge inside the body (the mesh is built)
+        ("error path: a load on an edge inside the body", ["-options_file", opts("block"), "-mesh", strip, "-pressure", "mid:1e6", "-exact", "none"], 1),
         # mesh.c: a cell too thin for double precision (after the files are read, before the plex)
         ("error path: a 1e-6 thin cell", ["-options_file", opts("block"), "-mesh", thin, "-pressure", "", "-exact", "none"], 1),
         # problem.c / supports.c: the commonest bad input, before any solve (lost the Dirichlet values)

@@ -1,7 +1,8 @@
 /* mesh.h - the bodies in one distributed DMPlex.
  *
- * Rank 0 reads the .msh file(s) with the strict reader (msh.h) - or takes an
- * MshMesh filled in memory (MeshCreateFromMsh) -, merges them, reorients
+ * Rank 0 reads the .msh file(s) with the strict reader (msh.h), or the .h5
+ * file -mesh_save wrote, or takes an MshMesh filled in memory
+ * (MeshCreateFromMsh); it merges them, reorients
  * clockwise quads, refuses degenerate or non-convex quads and overlapping cells,
  * checks every physical name the options ask for, and builds the interpolated
  * DMPlex from the cell list (its own edge finder: DMPlexCreateFromDAG, no
@@ -17,6 +18,14 @@
 
 #define M2D_MAX_GROUPS 256
 
+/* A physical curve's edges that lie inside the mesh (an edge of two cells):
+ * how many, and the first one (for messages). */
+typedef struct {
+  PetscInt  n;
+  PetscInt  body[2]; /* body index of its two cells */
+  PetscReal xy[4]; /* its two ends, in the mesh's coordinates as read (times -mesh_scale) */
+} M2dGroupInner;
+
 typedef struct {
   DM        dm;
   PetscInt  cStart, cEnd, eStart, eEnd, vStart, vEnd;
@@ -26,13 +35,13 @@ typedef struct {
   PetscInt  ngroup;
   char      group[M2D_MAX_GROUPS][M2D_NAME_LEN];
   PetscInt  groupdim[M2D_MAX_GROUPS];
+  M2dGroupInner inner[M2D_MAX_GROUPS]; /* per group: its edges inside a body */
   PetscInt  ncell_global, nvert_global;
   char      files[2 * PETSC_MAX_PATH_LEN + 8]; /* for messages */
 } M2dMesh;
 
-/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh; coordinates
- * times s->mesh_scale) or one .h5 file written by -mesh_save on every rank, and
- * builds *m; fills s->nbody and the body names when s->nbody is 0; writes
+/* Collective on comm. Reads s->mesh[0..s->nmesh-1] on rank 0 (.msh, or one .h5
+ * file written by -mesh_save; coordinates times s->mesh_scale), and builds *m; fills s->nbody and the body names when s->nbody is 0; writes
  * -mesh_save. Bad input: one-line error on every rank, nothing left allocated. */
 PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
 /* Collective on comm. As MeshCreate from nmsh meshes filled in memory on rank 0
@@ -50,6 +59,11 @@ PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
  * of a group: edges for curves, vertices for points; the caller destroys *is.
  * Errors with a message naming `option` if the group does not exist. */
 PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
+/* Not collective (the same on every rank). Refuses a physical curve `name`
+ * with an edge inside the mesh (of two cells): one line naming `option`, the
+ * curve, the body (or the two bodies) and the edge, then `why` (the boundary's role, e.g. "loads
+ * act on the boundary"). A group the mesh lacks is left to the other checks. */
+PetscErrorCode MeshCheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why);
 /* Collective. The number of points of a group (its local points summed over
  * the ranks); the same errors as MeshGetGroupIS. */
 PetscErrorCode MeshGroupSize(const M2dMesh *m, const char *name, const char *option, PetscInt *n);

@@ -10,17 +10,22 @@
  * size; and a view cannot tell the two bodies apart where they touch. */
 #define _GNU_SOURCE /* mkstemps, realpath */
 #include "remesh.h"
+#include "temprecord.h"
 #include <gmshc.h>
+#include <ctype.h>
 #include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -30,6 +35,7 @@ typedef struct {
   size_t      errlen;
   int         failed;
   char        wrapper[PATH_MAX + 64]; /* temporary .geo that sets the numbers, or "" */
+  int         slot;                   /* its entry in the temporary-file table, -1 if none */
 } Ctx;
 
 static double Now(void)
@@ -131,12 +137,66 @@ static int CheckTransfinite(Ctx *c, const char *geo)
   return bad ? Fail(c, "its Transfinite constraints would override the size field: put them in If (!Exists(m2d_size_field)) ... EndIf") : 0;
 }
 
+/* a regular file, or the reason it is not; 0 if it is one or is missing (gmsh says so) */
+static const char *NotRegular(const char *path)
+{
+  struct stat st;
+  if (stat(path, &st) || S_ISREG(st.st_mode)) return NULL;
+  return S_ISDIR(st.st_mode) ? "a directory" : S_ISCHR(st.st_mode) ? "a character device" : S_ISBLK(st.st_mode) ? "a block device" : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISSOCK(st.st_mode) ? "a socket" : "not a file";
+}
+
+/* Include "F" and Merge "F" with a literal name, outside comments: F (relative
+ * to the including file's directory, as gmsh resolves it) must not be a device,
+ * FIFO or directory, which gmsh would read for ever; included files are scanned
+ * in turn (depth 8). A name gmsh builds as it runs (StrCat, Sprintf) is not seen:
+ * a .geo is a program, checked here only as far as it can be without running it. */
+static int CheckIncludes(Ctx *c, const char *file, int depth)
+{
+  FILE  *fp = fopen(file, "rb");
+  char  *t  = NULL, dir[PATH_MAX];
+  long   n  = 0;
+  int    rc = 0;
+  const char *slash = strrchr(file, '/');
+  if (!fp) return 0;
+  if (fseek(fp, 0, SEEK_END) || (n = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET) || !(t = (char *)malloc((size_t)n + 1))) {
+    fclose(fp);
+    return 0;
+  }
+  t[fread(t, 1, (size_t)n, fp)] = 0;
+  fclose(fp);
+  snprintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - file) : 1, slash ? file : ".");
+  for (char *p = t; *p && !rc; p++) {
+    int include = 0, merge = 0;
+    if (p[0] == '/' && p[1] == '/') p = strchr(p, '\n') ? strchr(p, '\n') : p + strlen(p) - 1;
+    else if (p[0] == '/' && p[1] == '*') p = strstr(p + 2, "*/") ? strstr(p + 2, "*/") + 1 : p + strlen(p) - 1;
+    else if (*p == '"') p = strchr(p + 1, '"') ? strchr(p + 1, '"') : p + strlen(p) - 1;
+    else if ((p == t || !(isalnum((unsigned char)p[-1]) || p[-1] == '_')) && ((include = !strncmp(p, "Include", 7)) || (merge = !strncmp(p, "Merge", 5)))) {
+      char *q = p + (include ? 7 : 5), *e, name[PATH_MAX], full[2 * PATH_MAX];
+      const char *why;
+      while (*q == ' ' || *q == '\t') q++;
+      if (*q != '"' || !(e = strchr(q + 1, '"')) || e - q - 1 >= (long)sizeof(name)) continue;
+      snprintf(name, sizeof(name), "%.*s", (int)(e - q - 1), q + 1);
+      snprintf(full, sizeof(full), name[0] == '/' ? "%s" : "%s/%s", name[0] == '/' ? name : dir, name);
+      if ((why = NotRegular(full))) rc = Fail(c, "it %s '%s', which is not a regular file (%s)", include ? "includes" : "merges", name, why);
+      else if (include && depth < 8) rc = CheckIncludes(c, full, depth + 1);
+      p = e;
+    }
+  }
+  free(t);
+  return rc;
+}
+
 static int CheckInput(Ctx *c, const M2dRemeshInput *in)
 {
-  FILE *fp;
+  FILE       *fp;
+  struct stat st;
   if (!in->geo) return Fail(c, "no .geo file given");
+  /* gmsh would read a device or a FIFO for ever (-geo /dev/zero spun) */
+  if (stat(in->geo, &st)) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
+  if (!S_ISREG(st.st_mode)) return Fail(c, "the .geo file is not a regular file (%s)", NotRegular(in->geo));
   if (!(fp = fopen(in->geo, "r"))) return Fail(c, "cannot open the .geo file: %s", strerror(errno));
   fclose(fp);
+  if (CheckIncludes(c, in->geo, 0)) return 1;
   for (int i = 0; i < in->nnumber; i++) {
     if (!ValidName(in->names[i])) return Fail(c, "parameter name '%s' is not an identifier", in->names[i] ? in->names[i] : "(null)");
     if (!isfinite(in->values[i])) return Fail(c, "parameter '%s' is not a finite number", in->names[i]);
@@ -162,17 +222,25 @@ static int CheckInput(Ctx *c, const M2dRemeshInput *in)
  * With a size field it also defines m2d_size_field (see remesh.h). */
 static int WriteWrapper(Ctx *c, const M2dRemeshInput *in, char *path)
 {
-  char        abs[PATH_MAX];
-  const char *dir = getenv("TMPDIR");
-  FILE       *fp;
-  int         fd;
+  static unsigned serial;
+  char            abs[PATH_MAX];
+  const char     *dir = getenv("TMPDIR");
+  FILE           *fp  = NULL;
+  int             fd  = -1;
   if (!realpath(in->geo, abs)) return Fail(c, "cannot resolve the path: %s", strerror(errno));
   if (strchr(abs, '"')) return Fail(c, "the path holds a double quote");
-  snprintf(c->wrapper, sizeof(c->wrapper), "%s/m2d_remesh_XXXXXX.geo", dir && *dir ? dir : "/tmp");
-  if ((fd = mkstemps(c->wrapper, 4)) < 0 || !(fp = fdopen(fd, "w"))) {
-    if (fd >= 0) close(fd);
-    Fail(c, "cannot create a temporary file '%s': %s", c->wrapper, strerror(errno));
-    if (fd >= 0) unlink(c->wrapper);
+  /* recorded before it exists (temprecord.h): an interrupt removes it */
+  for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
+    snprintf(c->wrapper, sizeof(c->wrapper), "%s/m2d_remesh_%ld_%u.geo", dir && *dir ? dir : "/tmp", (long)getpid(), serial++);
+    if ((c->slot = M2dTempRecordFile(c->wrapper)) < 0) break;
+    if ((fd = open(c->wrapper, O_WRONLY | O_CREAT | O_EXCL, 0600)) < 0) M2dTempForgetFile(c->slot), c->slot = -1;
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0 || !(fp = fdopen(fd, "w"))) {
+    Fail(c, "cannot create a temporary file '%s': %s", c->wrapper, c->slot < 0 && fd < 0 && errno == EEXIST ? "no free name" : c->slot < 0 && fd < 0 ? "the path is too long or too many temporaries" : strerror(errno));
+    if (fd >= 0) close(fd), unlink(c->wrapper);
+    M2dTempForgetFile(c->slot);
+    c->slot       = -1;
     c->wrapper[0] = 0;
     return 1;
   }
@@ -426,6 +494,25 @@ static int TakePhysicalNames(Ctx *c, MshMesh *m)
   return 0;
 }
 
+/* The nodes the elements use, in one plane z = constant (up to round-off
+ * relative to the mesh's size, as MshRead's rule): else dropping z would
+ * change the geometry. Returns 1 (with the message) if they are not. */
+static int Plane(Ctx *c, const long *renum, const double *coord, size_t nnode)
+{
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, size;
+  size_t zlo = nnode, zhi = nnode; /* the nodes of the lowest and highest z */
+  for (size_t i = 0; i < nnode; i++) {
+    if (renum[i] < 0) continue;
+    for (int d = 0; d < 2; d++) lo[d] = fmin(lo[d], coord[3 * i + d]), hi[d] = fmax(hi[d], coord[3 * i + d]);
+    if (zlo == nnode || coord[3 * i + 2] < coord[3 * zlo + 2]) zlo = i;
+    if (zhi == nnode || coord[3 * i + 2] > coord[3 * zhi + 2]) zhi = i;
+  }
+  if (zlo == nnode) return 0;
+  size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(fabs(coord[3 * zlo + 2]), fabs(coord[3 * zhi + 2])));
+  if (!(coord[3 * zhi + 2] - coord[3 * zlo + 2] > 1e-12 * size)) return 0;
+  return Fail(c, "it is not plane: gmsh put the node at (%g, %g) at z = %g and the one at (%g, %g) at z = %g (mortar2d meshes plane geometry: every point at one z)", coord[3 * zlo], coord[3 * zlo + 1], coord[3 * zlo + 2], coord[3 * zhi], coord[3 * zhi + 1], coord[3 * zhi + 2]);
+}
+
 /* Keep the nodes the elements use, numbered in gmsh's order (that of its .msh). */
 static int Compact(Ctx *c, MshMesh *m, const double *coord, size_t nnode)
 {
@@ -435,6 +522,10 @@ static int Compact(Ctx *c, MshMesh *m, const double *coord, size_t nnode)
   for (long i = 0; i < 4 * m->nquad; i++) renum[m->quad[i]] = 0;
   for (long i = 0; i < 2 * m->nline; i++) renum[m->line[i]] = 0;
   for (long i = 0; i < m->npoint; i++) renum[m->point[i]] = 0;
+  if (Plane(c, renum, coord, nnode)) {
+    free(renum);
+    return 1;
+  }
   for (size_t i = 0; i < nnode; i++)
     if (!renum[i]) renum[i] = n++;
   if (!(m->xy = (double *)malloc((size_t)(n ? n : 1) * 2 * sizeof(double)))) {
@@ -569,13 +660,10 @@ static void Quiet(int on, int *saved)
   }
 }
 
-static int Run(Ctx *c, const M2dRemeshInput *in, Driver *d, MshMesh *out, M2dRemeshStats *st, double t0)
+static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, MshMesh *out, M2dRemeshStats *st, double t0)
 {
-  char geo[PATH_MAX + 64];
   int  ierr = 0, *ents = NULL, saved = -1;
   size_t nent = 0;
-  snprintf(geo, sizeof(geo), "%s", in->geo);
-  if ((in->nnumber || in->prev) && WriteWrapper(c, in, geo)) return 1;
   if (SetOption(c, "General.Terminal", in->verbose ? 1 : 0) || SetOption(c, "General.Verbosity", in->verbose ? 4 : 2) || SetOption(c, "General.AbortOnError", 0) || SetOption(c, "General.NumThreads", 1) ||
       SetOption(c, "Mesh.MaxNumThreads1D", 1) || SetOption(c, "Mesh.MaxNumThreads2D", 1) || SetOption(c, "Mesh.MaxNumThreads3D", 1)) return 1; /* one thread: the same mesh every run */
   G.gmshLoggerStart(&ierr);
@@ -595,39 +683,157 @@ static int Run(Ctx *c, const M2dRemeshInput *in, Driver *d, MshMesh *out, M2dRem
   return TakeMesh(c, out) || Orient(c, out);
 }
 
+/* ---------- gmsh in a child process ----------
+ * gmsh 4.8 crashes on some inputs (measured by tests/test_fuzz_geo.py: a
+ * double free on binary garbage, a segmentation fault with Mesh.Algorithm 8
+ * or with coordinates of 1e300), and a crash inside the program ended it with
+ * PETSc's signal trace. gmsh therefore runs in a child process (fork, no MPI
+ * or PETSc call there): its mesh or its error comes back through a pipe, and
+ * a crash is one line. The child takes none of the parent's signal handlers
+ * and dies with the parent (an interrupt ends both); the temporary .geo is
+ * the parent's (recorded, removed by the parent). */
+typedef struct {
+  int            failed, tagged;
+  char           err[1024];
+  M2dRemeshStats st;
+  long           nnode, nquad, nline, npoint, nphys;
+} Reply;
+
+static int WriteAll(int fd, const void *p, size_t n)
+{
+  for (const char *b = (const char *)p; n;) {
+    ssize_t w = write(fd, b, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return 1;
+    b += w, n -= (size_t)w;
+  }
+  return 0;
+}
+
+static int ReadAll(int fd, void *p, size_t n)
+{
+  for (char *b = (char *)p; n;) {
+    ssize_t r = read(fd, b, n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return 1;
+    b += r, n -= (size_t)r;
+  }
+  return 0;
+}
+
+/* the mesh's arrays, in this order (both directions) */
+#define MESH_ARRAYS(X, m, r) \
+  X(m->xy, 2 * r.nnode, double) X(m->quad, 4 * r.nquad, long) X(m->quadtag, r.tagged ? r.nquad : 0, long) X(m->quadphys, r.nquad, int) \
+  X(m->line, 2 * r.nline, long) X(m->linephys, r.nline, int) X(m->point, r.npoint, long) X(m->pointphys, r.npoint, int) X(m->phys, r.nphys, MshPhysical)
+
+static void Send(int fd, const Ctx *c, const MshMesh *m, const M2dRemeshStats *st)
+{
+  Reply r;
+  memset(&r, 0, sizeof(r));
+  r.failed = c->failed;
+  snprintf(r.err, sizeof(r.err), "%s", c->err ? c->err : "");
+  r.st = *st;
+  if (!c->failed) r.nnode = m->nnode, r.nquad = m->nquad, r.nline = m->nline, r.npoint = m->npoint, r.nphys = m->nphys, r.tagged = m->quadtag != NULL;
+  if (WriteAll(fd, &r, sizeof(r)) || c->failed) return;
+#define X(a, n, T) if ((n) > 0 && WriteAll(fd, a, (size_t)(n) * sizeof(T))) return;
+  MESH_ARRAYS(X, m, r)
+#undef X
+}
+
+static int Receive(Ctx *c, int fd, MshMesh *m, M2dRemeshStats *st)
+{
+  Reply r;
+  if (ReadAll(fd, &r, sizeof(r))) return 1;
+  if (r.failed) {
+    r.err[sizeof(r.err) - 1] = 0;
+    if (c->err && c->errlen) snprintf(c->err, c->errlen, "%s", r.err);
+    c->failed = 1;
+    return 0;
+  }
+  if (r.nnode < 0 || r.nquad < 0 || r.nline < 0 || r.npoint < 0 || r.nphys < 0 || r.nphys > INT_MAX) return 1;
+  m->nnode = r.nnode, m->nquad = r.nquad, m->nline = r.nline, m->npoint = r.npoint, m->nphys = (int)r.nphys;
+#define X(a, n, T) \
+  if ((n) > 0) { \
+    if (!(a = (T *)malloc((size_t)(n) * sizeof(T)))) return Fail(c, "out of memory"); \
+    if (ReadAll(fd, a, (size_t)(n) * sizeof(T))) return 1; \
+  }
+  MESH_ARRAYS(X, m, r)
+#undef X
+  *st = r.st;
+  return 0;
+}
+
+/* the child: gmsh from start to end, the answer sent through fd */
+static void Child(Ctx *c, const M2dRemeshInput *in, const char *geo, int fd, pid_t parent, double t0)
+{
+  const int      sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE};
+  char          *argv[] = {(char *)"mortar2d", NULL};
+  int            ierr   = 0;
+  Driver         d;
+  MshMesh        out;
+  M2dRemeshStats st;
+  memset(&d, 0, sizeof(d));
+  memset(&out, 0, sizeof(out));
+  memset(&st, 0, sizeof(st));
+  for (size_t k = 0; k < sizeof(sigs) / sizeof(sigs[0]); k++) signal(sigs[k], SIG_DFL);
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (!in->verbose) { /* gmsh's own prints, and glibc's on a crash: the parent's line says it */
+    int null = open("/dev/null", O_WRONLY);
+    if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO), close(null);
+  }
+  if (getppid() != parent) _exit(1); /* the parent is already gone */
+  G.gmshInitialize(1, argv, 0, &ierr);
+  if (ierr) Fail(c, "gmsh did not initialise");
+  else Run(c, in, geo, &d, &out, &st, t0);
+  Send(fd, c, &out, &st);
+  _exit(0); /* no atexit handler of the parent's, no gmshFinalize: the process ends */
+}
+
+static int InChild(Ctx *c, const M2dRemeshInput *in, const char *geo, MshMesh *out, M2dRemeshStats *st, double t0)
+{
+  int   fd[2], status = 0, lost;
+  pid_t pid, parent = getpid();
+  if (pipe(fd)) return Fail(c, "cannot create a pipe: %s", strerror(errno));
+  fflush(stdout);
+  fflush(stderr);
+  if ((pid = fork()) < 0) {
+    close(fd[0]), close(fd[1]);
+    return Fail(c, "cannot start gmsh's process: %s", strerror(errno));
+  }
+  if (pid == 0) {
+    close(fd[0]);
+    Child(c, in, geo, fd[1], parent, t0);
+  }
+  close(fd[1]);
+  lost = Receive(c, fd[0], out, st);
+  close(fd[0]);
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) { }
+  if (WIFSIGNALED(status)) return Fail(c, "gmsh crashed while meshing it (signal SIG%s)", sigabbrev_np(WTERMSIG(status)) ? sigabbrev_np(WTERMSIG(status)) : "?");
+  if (lost || !WIFEXITED(status) || WEXITSTATUS(status)) return Fail(c, "gmsh ended without a mesh (exit status %d)", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return c->failed;
+}
+
 int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, char *err, size_t errlen)
 {
   Ctx            c;
   M2dRemeshStats st;
-  Driver         d;
   double         t0 = Now();
-  char          *argv[] = {(char *)"mortar2d", NULL}, locale[512];
-  int            ierr   = 0;
+  char           geo[PATH_MAX + 64];
 
   memset(out, 0, sizeof(*out));
   memset(&st, 0, sizeof(st));
   memset(&c, 0, sizeof(c));
-  memset(&d, 0, sizeof(d));
   c.geo    = in ? in->geo : NULL;
+  c.slot   = -1;
   c.err    = err;
   c.errlen = errlen;
   if (err && errlen) err[0] = 0;
   if (!in) return Fail(&c, "no input");
-  if (CheckInput(&c, in) || LoadGmsh(&c)) return 1;
-  /* gmsh sets the process locale; put back the caller's */
-  snprintf(locale, sizeof(locale), "%s", setlocale(LC_ALL, NULL) ? setlocale(LC_ALL, NULL) : "C");
-  G.gmshInitialize(1, argv, 0, &ierr);
-  if (ierr) Fail(&c, "gmsh did not initialise");
-  else {
-    Run(&c, in, &d, out, &st, t0);
-    G.gmshLoggerStop(&ierr);
-    G.gmshFinalize(&ierr);
-  }
-  M2dRemeshFieldDestroy(&d.field);
-  for (int k = 0; k < 3; k++) free(d.surf[k]);
-  free(d.quadphys);
-  setlocale(LC_ALL, locale);
+  if (CheckInput(&c, in) || LoadGmsh(&c)) return 1; /* loaded here: every child has it */
+  snprintf(geo, sizeof(geo), "%s", in->geo);
+  if (!((in->nnumber || in->prev) && WriteWrapper(&c, in, geo))) InChild(&c, in, geo, out, &st, t0);
   if (c.wrapper[0]) unlink(c.wrapper);
+  M2dTempForgetFile(c.slot);
   if (c.failed) {
     MshFree(out);
     return 1;

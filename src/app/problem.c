@@ -18,7 +18,9 @@ static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const M2dMesh *m, const char 
   PetscFunctionReturn(0);
 }
 
-/* every physical group the options name must exist, before any work is done */
+/* every physical group the options name must exist, before any work is done;
+ * what acts through the boundary (loads, contact, u.n and u.t supports, which
+ * need its outward normal) must lie on it */
 static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
 {
   PetscFunctionBeginUser;
@@ -29,6 +31,7 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
     /* a point has no normal: G:n and G:t held nothing (before, silently) */
     PetscCheck(d == 1 || s->dir[i].frame == M2D_BC_XY, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s:%s' needs a curve (its normal), and physical group '%s' is a point; give x, y or xy", s->dir[i].group, s->dir[i].frame == M2D_BC_NORMAL ? "n" : "t", s->dir[i].group);
     PetscCall(CheckNotEmpty(comm, m, s->dir[i].group, "-dirichlet"));
+    if (s->dir[i].frame != M2D_BC_XY) PetscCall(MeshCheckOnBoundary(m, s, s->dir[i].group, "-dirichlet", "u.n and u.t are taken along the boundary's outward normal"));
   }
   for (PetscInt i = 0; i < s->nload; i++) {
     const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
@@ -36,7 +39,10 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
     PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, s->load[i].group);
     PetscCheck(d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, s->load[i].group);
     PetscCall(CheckNotEmpty(comm, m, s->load[i].group, opt));
+    PetscCall(MeshCheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
   }
+  PetscCall(MeshCheckOnBoundary(m, s, s->contact_nm, "-contact_nonmortar", "a contact surface is part of the boundary"));
+  PetscCall(MeshCheckOnBoundary(m, s, s->contact_m, "-contact_mortar", "a contact surface is part of the boundary"));
   PetscFunctionReturn(0);
 }
 

@@ -2,32 +2,90 @@
 #include "frames.h"
 #include <math.h>
 
-/* the points of support k on this rank: a vertex, or both vertices of an edge */
-static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, PetscInt *nv, PetscInt **verts, PetscReal **dirs)
+/* per local vertex, the same on every rank: whether x/y support bc holds the
+ * vertex, one flag per component (summed over the ranks, tested > 0) */
+static PetscErrorCode SupportAtVertices(const M2dMesh *m, const M2dDirichlet *bc, Vec acc)
 {
-  M2dMeshArrays   ar;
+  PetscSection    lsec;
+  Vec             g;
+  PetscScalar    *a;
   IS              is;
   const PetscInt *pts;
   PetscInt        np;
 
   PetscFunctionBeginUser;
-  PetscCall(MeshArraysOpen(m, NULL, &ar));
+  PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(VecZeroEntries(acc));
   PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
   PetscCall(ISGetLocalSize(is, &np));
   PetscCall(ISGetIndices(is, &pts));
-  PetscCall(PetscMalloc2(2 * np + 1, verts, 4 * np + 1, dirs));
-  *nv = 0;
+  PetscCall(VecGetArray(acc, &a));
+  for (PetscInt i = 0; i < np; i++) {
+    const PetscInt *cone = &pts[i];
+    PetscInt        nv   = 1, off;
+    if (pts[i] >= m->eStart && pts[i] < m->eEnd) {
+      PetscCall(DMPlexGetCone(m->dm, pts[i], &cone));
+      nv = 2;
+    } else if (pts[i] < m->vStart || pts[i] >= m->vEnd) continue;
+    for (PetscInt j = 0; j < nv; j++) {
+      PetscCall(PetscSectionGetOffset(lsec, cone[j], &off));
+      for (int d = 0; d < 2; d++) a[off + d] = bc->comp[d] ? 1.0 : 0.0;
+    }
+  }
+  PetscCall(VecRestoreArray(acc, &a));
+  PetscCall(ISRestoreIndices(is, &pts));
+  PetscCall(ISDestroy(&is));
+  PetscCall(DMGetGlobalVector(m->dm, &g));
+  PetscCall(VecZeroEntries(g));
+  PetscCall(DMLocalToGlobal(m->dm, acc, ADD_VALUES, g));
+  PetscCall(DMGlobalToLocal(m->dm, g, INSERT_VALUES, acc));
+  PetscCall(DMRestoreGlobalVector(m->dm, &g));
+  PetscFunctionReturn(0);
+}
+
+/* a vertex's identity on every rank: the global dof of its u_x */
+static PetscInt VertexId(PetscSection gsec, PetscInt v)
+{
+  PetscInt off;
+  PetscSectionGetOffset(gsec, v, &off);
+  return off < 0 ? -(off + 1) : off;
+}
+
+typedef struct {
+  double id, n[2]; /* vertex id, the outward unit normal of one of its edges (doubles: one MPI type) */
+} VertexNormal;
+
+static int CmpVertexNormal(const void *x, const void *y)
+{
+  double a = ((const VertexNormal *)x)->id, b = ((const VertexNormal *)y)->id;
+  return (a > b) - (a < b);
+}
+
+/* every edge of the n/t support bc, from every rank, as (vertex, outward
+ * normal) for both its ends, sorted by vertex */
+static PetscErrorCode SupportNormals(const M2dMesh *m, const M2dDirichlet *bc, PetscInt *nall, VertexNormal **all)
+{
+  M2dMeshArrays   ar;
+  PetscSection    gsec;
+  IS              is;
+  const PetscInt *pts;
+  PetscInt        np, nloc = 0;
+  VertexNormal   *loc;
+  PetscMPIInt     size, cnt, *counts, *displs;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)m->dm);
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
+  PetscCall(MeshGetGroupIS(m, bc->group, "-dirichlet", &is));
+  PetscCall(ISGetLocalSize(is, &np));
+  PetscCall(ISGetIndices(is, &pts));
+  PetscCall(PetscMalloc1(2 * np + 1, &loc));
   for (PetscInt i = 0; i < np; i++) {
     const PetscInt *cone, *supp;
     PetscInt        e = pts[i], off[2];
     PetscReal       xy[8], cx = 0, cy = 0, n[2], len;
-    if (e >= m->vStart && e < m->vEnd) { /* a point support: no normal */
-      (*verts)[*nv] = e;
-      (*dirs)[2 * (*nv)] = (*dirs)[2 * (*nv) + 1] = 0;
-      (*nv)++;
-      continue;
-    }
-    if (e < m->eStart || e >= m->eEnd) continue;
+    if (e < m->eStart || e >= m->eEnd || m->edgeghost[e - m->eStart]) continue; /* each edge once, on its owner */
     PetscCall(DMPlexGetCone(m->dm, e, &cone));
     PetscCall(DMPlexGetSupport(m->dm, e, &supp));
     for (int j = 0; j < 2; j++) PetscCall(PetscSectionGetOffset(ar.cs, cone[j], &off[j]));
@@ -37,52 +95,23 @@ static PetscErrorCode SupportVertices(const M2dMesh *m, const M2dDirichlet *bc, 
     MeshCellCoordinates(m, ar.ca, ar.cs, supp[0], xy);
     for (int j = 0; j < 4; j++) cx += 0.25 * xy[2 * j], cy += 0.25 * xy[2 * j + 1];
     if ((0.5 * PetscRealPart(ar.ca[off[0]] + ar.ca[off[1]]) - cx) * n[0] + (0.5 * PetscRealPart(ar.ca[off[0] + 1] + ar.ca[off[1] + 1]) - cy) * n[1] < 0) len = -len; /* outward */
-    /* an edge owned elsewhere counts on its owner only: the sums below add the ranks */
-    if (m->edgeghost[e - m->eStart]) n[0] = n[1] = 0, len = 1;
-    for (int j = 0; j < 2; j++) {
-      (*verts)[*nv]          = cone[j];
-      (*dirs)[2 * (*nv)]     = n[0] / len;
-      (*dirs)[2 * (*nv) + 1] = n[1] / len;
-      (*nv)++;
-    }
+    for (int j = 0; j < 2; j++) loc[nloc++] = (VertexNormal){(double)VertexId(gsec, cone[j]), {n[0] / len, n[1] / len}};
   }
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
   PetscCall(MeshArraysClose(&ar));
-  PetscFunctionReturn(0);
-}
-
-/* per local vertex, the same on every rank: for support k, whether it holds
- * the vertex (XY: one flag per component; n/t: the summed outward normal of
- * its edges there) */
-static PetscErrorCode SupportAtVertices(const M2dMesh *m, const M2dDirichlet *bc, Vec acc)
-{
-  PetscSection lsec;
-  Vec          g;
-  PetscScalar *a;
-  PetscInt     nv, *verts;
-  PetscReal   *dirs;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetLocalSection(m->dm, &lsec));
-  PetscCall(VecZeroEntries(acc));
-  PetscCall(SupportVertices(m, bc, &nv, &verts, &dirs));
-  PetscCall(VecGetArray(acc, &a));
-  for (PetscInt i = 0; i < nv; i++) {
-    PetscInt off;
-    PetscCall(PetscSectionGetOffset(lsec, verts[i], &off));
-    for (int d = 0; d < 2; d++) {
-      if (bc->frame == M2D_BC_XY) a[off + d] = bc->comp[d] ? 1.0 : 0.0;
-      else a[off + d] += dirs[2 * i + d];
-    }
-  }
-  PetscCall(VecRestoreArray(acc, &a));
-  PetscCall(PetscFree2(verts, dirs));
-  PetscCall(DMGetGlobalVector(m->dm, &g));
-  PetscCall(VecZeroEntries(g));
-  PetscCall(DMLocalToGlobal(m->dm, acc, ADD_VALUES, g)); /* XY: flags, tested > 0 */
-  PetscCall(DMGlobalToLocal(m->dm, g, INSERT_VALUES, acc));
-  PetscCall(DMRestoreGlobalVector(m->dm, &g));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
+  PetscCall(PetscMPIIntCast(3 * nloc, &cnt));
+  PetscCallMPI(MPI_Allgather(&cnt, 1, MPI_INT, counts, 1, MPI_INT, comm));
+  displs[0] = 0;
+  for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
+  *nall = displs[size] / 3;
+  PetscCall(PetscMalloc1(*nall + 1, all));
+  PetscCallMPI(MPI_Allgatherv(loc, cnt, MPI_DOUBLE, *all, counts, displs, MPI_DOUBLE, comm));
+  qsort(*all, (size_t)*nall, sizeof(VertexNormal), CmpVertexNormal);
+  PetscCall(PetscFree2(counts, displs));
+  PetscCall(PetscFree(loc));
   PetscFunctionReturn(0);
 }
 
@@ -141,9 +170,46 @@ static void Decide(PetscInt n, PetscReal dir[][2], const PetscReal val[], PetscR
   }
 }
 
+/* Edges of one n/t support that meet at a vertex at more than this angle
+ * make a corner: the normal of each side is a condition of its own (the vertex
+ * is held in x and y, as by two supports); below it their normals are
+ * averaged (a curved boundary: 12 or more edges per turn). */
+#define M2D_CORNER_DEG 30.0
+
+/* vertex v's conditions from n/t support bc: the normals at v (nrm[0..k-1])
+ * grouped within M2D_CORNER_DEG of each group's first, each group's mean a condition */
+static void AddNormalConstraints(const M2dDirichlet *bc, PetscInt k, const VertexNormal *nrm, PetscInt *ncon, PetscReal dir[][2], PetscReal val[])
+{
+  PetscReal sum[8][2], first[8][2], c = PetscCosReal(M2D_CORNER_DEG * PETSC_PI / 180);
+  PetscInt  ng = 0;
+
+  for (PetscInt i = 0; i < k; i++) {
+    PetscInt g = 0;
+    while (g < ng && nrm[i].n[0] * first[g][0] + nrm[i].n[1] * first[g][1] < c) g++;
+    if (g == ng) {
+      if (ng == 8) continue;
+      first[ng][0] = nrm[i].n[0], first[ng][1] = nrm[i].n[1];
+      sum[ng][0] = sum[ng][1] = 0;
+      ng++;
+    }
+    sum[g][0] += nrm[i].n[0];
+    sum[g][1] += nrm[i].n[1];
+  }
+  for (PetscInt g = 0; g < ng; g++) {
+    PetscReal l = PetscSqrtReal(PetscSqr(sum[g][0]) + PetscSqr(sum[g][1])), d[2];
+    if (!(l > 0)) continue;
+    d[0] = sum[g][0] / l, d[1] = sum[g][1] / l;
+    if (bc->frame == M2D_BC_TANGENT) { /* t = (-n_y, n_x) */
+      PetscReal t = d[0];
+      d[0]        = -d[1], d[1] = t;
+    }
+    AddConstraint(ncon, dir, val, d, bc->value[0]);
+  }
+}
+
 PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *fr)
 {
-  PetscSection       lsec;
+  PetscSection       lsec, gsec;
   PetscInt           nv = m->vEnd - m->vStart, *ncon;
   PetscReal(*dir)[2][2], (*val)[2];
   Vec                acc;
@@ -154,33 +220,40 @@ PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *f
   PetscCall(PetscCalloc3(2 * nv + 1, &fr->normal, nv + 1, &fr->mask, 2 * nv + 1, &fr->value));
   PetscCall(PetscCalloc3(nv + 1, &ncon, nv + 1, &dir, nv + 1, &val));
   PetscCall(DMGetLocalSection(m->dm, &lsec));
+  PetscCall(DMGetGlobalSection(m->dm, &gsec));
   PetscCall(DMGetLocalVector(m->dm, &acc));
   for (PetscInt k = 0; k < s->ndir; k++) {
     const M2dDirichlet *bc = &s->dir[k];
-    PetscCall(SupportAtVertices(m, bc, acc));
-    PetscCall(VecGetArrayRead(acc, &a));
-    for (PetscInt v = 0; v < nv; v++) {
-      PetscInt  off;
-      PetscReal d[2], l;
-      PetscCall(PetscSectionGetOffset(lsec, m->vStart + v, &off));
-      if (bc->frame == M2D_BC_XY) {
+    if (bc->frame == M2D_BC_XY) {
+      PetscCall(SupportAtVertices(m, bc, acc));
+      PetscCall(VecGetArrayRead(acc, &a));
+      for (PetscInt v = 0; v < nv; v++) {
+        PetscInt off;
+        PetscCall(PetscSectionGetOffset(lsec, m->vStart + v, &off));
         for (int c = 0; c < 2; c++)
           if (PetscRealPart(a[off + c]) > 0) {
-            d[0] = c == 0, d[1] = c == 1;
+            PetscReal d[2] = {(PetscReal)(c == 0), (PetscReal)(c == 1)};
             AddConstraint(&ncon[v], dir[v], val[v], d, bc->value[c]);
           }
-        continue;
       }
-      l = PetscSqrtReal(PetscSqr(PetscRealPart(a[off])) + PetscSqr(PetscRealPart(a[off + 1])));
-      if (!(l > 0)) continue;
-      d[0] = PetscRealPart(a[off]) / l, d[1] = PetscRealPart(a[off + 1]) / l;
-      if (bc->frame == M2D_BC_TANGENT) { /* t = (-n_y, n_x) */
-        PetscReal t = d[0];
-        d[0]        = -d[1], d[1] = t;
+      PetscCall(VecRestoreArrayRead(acc, &a));
+    } else {
+      VertexNormal *all  = NULL;
+      PetscInt      nall = 0;
+      PetscCall(SupportNormals(m, bc, &nall, &all));
+      for (PetscInt v = 0; v < nv && nall; v++) { /* its entries in all[], by bisection */
+        double   id = (double)VertexId(gsec, m->vStart + v);
+        PetscInt lo = 0, hi = nall, end;
+        while (lo < hi) {
+          PetscInt mid = (lo + hi) / 2;
+          if (all[mid].id < id) lo = mid + 1;
+          else hi = mid;
+        }
+        for (end = lo; end < nall && all[end].id == id; end++) { }
+        AddNormalConstraints(bc, end - lo, &all[lo], &ncon[v], dir[v], val[v]);
       }
-      AddConstraint(&ncon[v], dir[v], val[v], d, bc->value[0]);
+      PetscCall(PetscFree(all));
     }
-    PetscCall(VecRestoreArrayRead(acc, &a));
   }
   PetscCall(DMRestoreLocalVector(m->dm, &acc));
   for (PetscInt v = 0; v < nv; v++) {

@@ -4,6 +4,7 @@
  * atomic (idle, commit, dying) so that a signal taken on any thread either
  * finds no switch in progress or is deferred until the switch is done. */
 #include "tempfile.h"
+#include "temprecord.h"
 #include "util.h"
 #include <dirent.h>
 #include <errno.h>
@@ -195,6 +196,16 @@ int M2dTempTryRecord(const char *path, PetscBool isdir)
     return i;
   }
   return -1;
+}
+
+int M2dTempRecordFile(const char *path)
+{
+  return M2dTempTryRecord(path, PETSC_FALSE);
+}
+
+void M2dTempForgetFile(int slot)
+{
+  M2dTempForget(&slot);
 }
 
 PetscErrorCode M2dTempRecord(const char *path, PetscBool isdir, int *slot)

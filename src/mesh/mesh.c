@@ -186,7 +186,7 @@ static PetscErrorCode GlobalSizes(M2dMesh *m)
     }
   }
   PetscCall(VecRestoreArrayRead(cl, &ca));
-  PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " cell corners lost their orientation in the DMPlex", bad);
+  PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_PLIB, "mesh %s: %" PetscInt_FMT " cell corners lost their orientation in the DMPlex (checked counter-clockwise before: a fault of the program)", m->files, bad);
   PetscCall(DMGetGlobalSection(m->dm, &gs));
   PetscCall(PetscSectionGetStorageSize(gs, &ndof));
   n[0] = m->cEnd - m->cStart;
@@ -199,9 +199,8 @@ static PetscErrorCode GlobalSizes(M2dMesh *m)
 
 /* Every path ends here with a plex dm (taken), the body of each local cell by
  * point (pbody, taken) and label points lab[2k] = group, lab[2k+1] = point
- * (taken; NULL when dm already carries the labels); distribute: PETSc's
- * partitioner distributes dm on several ranks. */
-PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
+ * (taken); distribute: PETSc's partitioner distributes dm on several ranks. */
+static PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute)
 {
   PetscMPIInt size;
 
@@ -239,12 +238,12 @@ PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, P
 }
 
 /* rank 0: the skeleton, its checks and the group entries; a message in err */
-static PetscErrorCode SkeletonAndGroups(const M2dScene *s, const M2dMesh *m, const MeshSources *src, MeshLists *L, MeshSkel *sk, char *err, size_t len)
+static PetscErrorCode SkeletonAndGroups(const M2dScene *s, M2dMesh *m, const MeshSources *src, MeshLists *L, MeshSkel *sk, char *err, size_t len)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscCall(MeshSkelBuild(L->nc, L->nv, L->cells, sk));
-  if (!MeshCheckSkeleton(s, src, L, sk, err, len)) PetscCall(MeshGroupEntries(m, src, L, sk, err, len));
+  if (!MeshCheckSkeleton(s, src, L, sk, err, len)) PetscCall(MeshGroupEntries(m, src, L, sk, m->inner, err, len));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_EDGES], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -278,6 +277,7 @@ static PetscErrorCode MeshBuild(MPI_Comm comm, M2dScene *s, const MeshSources *s
     MeshListsFree(&L);
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscCallMPI(MPI_Bcast(m->inner, (int)sizeof(m->inner), MPI_BYTE, 0, comm));
   ierr = BuildPlex(comm, s, &sk, &L, &dm, &pbody, &lab, &nlab);
   if (rank == 0) MeshSkelFree(&sk);
   MeshListsFree(&L);
@@ -318,7 +318,7 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
   PetscFunctionReturn(0);
 }
 
-/* the .msh files: read on rank 0, then the common path */
+/* the .msh files (or the .h5 of -mesh_save): read on rank 0, then the common path */
 static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
   PetscMPIInt rank;
@@ -334,7 +334,10 @@ static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(PetscSNPrintf(all, sizeof(all), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
   for (PetscInt f = 0; f < s->nmesh; f++) PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
-  for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) MshRead(s->mesh[f], &msh[f], err, sizeof(err));
+  for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) {
+    if (MeshIsHDF5(s->mesh[f])) MeshReadHDF5(s->mesh[f], &msh[f], err, sizeof(err));
+    else MshRead(s->mesh[f], &msh[f], err, sizeof(err));
+  }
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   if (err[0])
     for (int f = 0; f < 2; f++) MshFree(&msh[f]);
@@ -360,8 +363,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
-  if (MeshIsHDF5(s->mesh[0])) PetscCall(MeshLoad(comm, s, s->mesh[0], m));
-  else PetscCall(CreateFromFiles(comm, s, m));
+  PetscCall(CreateFromFiles(comm, s, m));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   if (save[0]) PetscCall(MeshSave(m, s, save));
   PetscFunctionReturn(0);
@@ -394,6 +396,22 @@ PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *op
   PetscCall(DMGetLabel(m->dm, lname, &label));
   PetscCall(DMLabelGetStratumIS(label, 1, is));
   if (!*is) PetscCall(ISCreateGeneral(PETSC_COMM_SELF, 0, NULL, PETSC_COPY_VALUES, is));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt g = 0; g < m->ngroup; g++) {
+    const M2dGroupInner *in = &m->inner[g];
+    const char          *b[2];
+    char                 where[2 * M2D_NAME_LEN + 64];
+    if (strcmp(m->group[g], name) || !in->n) continue;
+    for (int k = 0; k < 2; k++) b[k] = in->body[k] >= 0 && in->body[k] < s->nbody ? s->body[in->body[k]].name : "?";
+    if (in->body[0] == in->body[1]) PetscCall(PetscSNPrintf(where, sizeof(where), "inside body '%s'", b[0]));
+    else PetscCall(PetscSNPrintf(where, sizeof(where), "between bodies '%s' and '%s', which share its nodes", b[0], b[1]));
+    SETERRQ(PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' has %" PetscInt_FMT " edge%s %s (the first from (%g, %g) to (%g, %g), between two cells): %s", option, name, in->n, in->n > 1 ? "s" : "", where, (double)in->xy[0], (double)in->xy[1], (double)in->xy[2], (double)in->xy[3], why);
+  }
   PetscFunctionReturn(0);
 }
 

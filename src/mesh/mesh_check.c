@@ -6,7 +6,12 @@
  *     (else both lie on the same side of it: a node pulled across a neighbour
  *     gives a clockwise quad, which was reoriented and now overlaps);
  *  3. the boundary of each body does not cross itself (a fold that keeps every
- *     cell convex, e.g. a strip wound over itself).
+ *     cell convex, e.g. a strip wound over itself);
+ *  4. each body is one piece (its cells connected through shared edges): a
+ *     second piece may lie inside the first without any crossing (two
+ *     surfaces of one physical surface, one drawn inside the other), and a
+ *     piece apart from the rest is held by nothing the per-body support
+ *     check sees (supports.h) - both were solved with exit 0.
  * (Sum of cell areas = area enclosed by the boundary holds by algebra once 2
  * holds, the shoelace terms of interior edges cancelling: it cannot catch 3.) */
 #include "mesh_impl.h"
@@ -112,7 +117,44 @@ static int CheckBoundary(const M2dScene *s, const MeshSources *src, const MeshLi
   return 1;
 }
 
+static PetscInt Root(PetscInt *up, PetscInt c)
+{
+  while (up[c] != c) c = up[c] = up[up[c]];
+  return c;
+}
+
+/* check 4: union-find of the cells over the interior edges within a body */
+static int CheckPieces(const M2dScene *s, const MeshSources *src, const MeshLists *L, const MeshSkel *sk, char *err, size_t len)
+{
+  PetscInt *up = (PetscInt *)malloc((size_t)(sk->nc + 1) * sizeof(PetscInt)), first[M2D_MAX_BODIES], second = -1;
+
+  if (!up) {
+    snprintf(err, len, "out of memory checking the mesh %s", src->all);
+    return 1;
+  }
+  for (PetscInt c = 0; c < sk->nc; c++) up[c] = c;
+  for (PetscInt e = 0; e < sk->ne; e++) {
+    PetscInt a = sk->ecell[2 * e], b = sk->ecell[2 * e + 1];
+    if (b >= 0 && L->cellbody[a] == L->cellbody[b]) up[Root(up, a)] = Root(up, b);
+  }
+  for (PetscInt b = 0; b < M2D_MAX_BODIES; b++) first[b] = -1;
+  for (PetscInt c = 0; c < sk->nc && second < 0; c++) {
+    PetscInt b = L->cellbody[c];
+    if (first[b] < 0) first[b] = c;
+    else if (Root(up, c) != Root(up, first[b])) second = c;
+  }
+  free(up);
+  if (second < 0) return 0;
+  {
+    const PetscInt  *v = &L->cells[4 * second];
+    const PetscReal *x = L->coords;
+    snprintf(err, len, "%s, body '%s': its cells form more than one piece (quadrilaterals %ld and %ld share no chain of edges; the second near (%g, %g)): a piece may overlap another or be held by nothing; give each piece its own physical surface", src->label[L->cellsrc[second]], BodyName(s, L->cellbody[second]), L->celltag[first[L->cellbody[second]]], L->celltag[second],
+             0.25 * (x[2 * v[0]] + x[2 * v[1]] + x[2 * v[2]] + x[2 * v[3]]), 0.25 * (x[2 * v[0] + 1] + x[2 * v[1] + 1] + x[2 * v[2] + 1] + x[2 * v[3] + 1]));
+  }
+  return 1;
+}
+
 int MeshCheckSkeleton(const M2dScene *s, const MeshSources *src, const MeshLists *L, const MeshSkel *sk, char *err, size_t len)
 {
-  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len);
+  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len) || CheckPieces(s, src, L, sk, err, len);
 }

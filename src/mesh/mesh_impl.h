@@ -10,7 +10,8 @@
  *   mesh_distribute.c  several ranks: METIS partition and the per-rank packages
  *   mesh_matrix.c      MeshCreateMatrix
  *   mesh_modes.c       MeshRigidBodyModes
- *   mesh_h5.c          the mesh in PETSc's HDF5 format: -mesh_save, -mesh F.h5 */
+ *   mesh_h5.c          the mesh in PETSc's HDF5 format: -mesh_save, and -mesh F.h5
+ *                      read on rank 0 into an MshMesh (then the .msh path) */
 #ifndef M2D_MESH_IMPL_H
 #define M2D_MESH_IMPL_H
 #include "logging.h"
@@ -74,17 +75,15 @@ int MeshCheckSkeleton(const M2dScene *s, const MeshSources *src, const MeshLists
 /* mesh_plex.c */
 PetscErrorCode MeshSkelBuild(PetscInt nc, PetscInt nv, const PetscInt cells[], MeshSkel *sk);
 void           MeshSkelFree(MeshSkel *sk);
-PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, char *err, size_t len);
+PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, M2dGroupInner inner[], char *err, size_t len);
 PetscErrorCode MeshPlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, PetscInt nel, const PetscInt ccone[], const PetscInt cornt[], const PetscInt econe[], const PetscReal xy[], DM *dm);
 /* mesh_distribute.c: every rank gets its plex, the body of each local cell
  * (pbody, indexed by point, -1 off cells) and its label points (group, point) */
 PetscErrorCode MeshBuildDistributed(MPI_Comm comm, const MeshSkel *sk, const MeshLists *L, DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab);
-/* mesh.c: every path ends here with its plex (dm, pbody and lab taken; lab NULL
- * when dm already carries the labels "m2d:GROUP"; distribute: with PETSc's
- * partitioner on several ranks) */
-PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, PetscInt *pbody, PetscInt *lab, PetscInt nlab, PetscBool distribute);
 /* mesh_h5.c: PETSc's HDF5 format (-mesh F.h5, -mesh_save F.h5) */
 PetscBool      MeshIsHDF5(const char *path);
-PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m);
 PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
+/* rank 0, not collective: the file -mesh_save wrote, checked, as MshRead would
+ * give the same mesh from a .msh file; 0, or 1 with one line in err naming it */
+int MeshReadHDF5(const char *path, MshMesh *m, char *err, size_t len);
 #endif

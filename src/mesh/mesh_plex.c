@@ -111,8 +111,9 @@ static int GroupEntry(const M2dMesh *m, const MeshSources *src, const MeshLists 
   return 0;
 }
 
-/* Rank 0: physical curves and points -> L->ent (group, 0 vertex / 1 edge, id) */
-PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, char *err, size_t len)
+/* Rank 0: physical curves and points -> L->ent (group, 0 vertex / 1 edge, id);
+ * inner[group]: the curve's edges that have two cells */
+PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLists *L, const MeshSkel *sk, M2dGroupInner inner[], char *err, size_t len)
 {
   long cap = 0;
 
@@ -128,7 +129,14 @@ PetscErrorCode MeshGroupEntries(const M2dMesh *m, const MeshSources *src, MeshLi
       PetscInt *entry = &L->ent[3 * L->nent];
       PetscBool line  = (PetscBool)(i < msh->nline);
       if (GroupEntry(m, src, L, sk, f, line, line ? i : i - msh->nline, entry, err, len)) PetscFunctionReturn(0);
-      if (entry[0] >= 0) L->nent++;
+      if (entry[0] < 0) continue;
+      L->nent++;
+      if (entry[1] == 1 && sk->ecell[2 * entry[2] + 1] >= 0 && !inner[entry[0]].n++) {
+        M2dGroupInner *in = &inner[entry[0]];
+        in->body[0]       = L->cellbody[sk->ecell[2 * entry[2]]];
+        in->body[1]       = L->cellbody[sk->ecell[2 * entry[2] + 1]];
+        for (int k = 0; k < 2; k++) in->xy[2 * k] = L->coords[2 * sk->ev[2 * entry[2] + k]], in->xy[2 * k + 1] = L->coords[2 * sk->ev[2 * entry[2] + k] + 1];
+      }
     }
   }
   PetscFunctionReturn(0);

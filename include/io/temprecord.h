@@ -1,0 +1,12 @@
+/* temprecord.h - the temporary-file table of tempfile.h for the plain-C
+ * modules (no PETSc types): remesh.c records the .geo wrapper it writes
+ * before creating it, so that SIGINT, SIGTERM, SIGHUP and every exit() remove
+ * it (tempfile.h). Not collective. */
+#ifndef M2D_TEMPRECORD_H
+#define M2D_TEMPRECORD_H
+/* Record the file path (before it exists): its slot, or -1 when the path is
+ * too long or the table is full (then nothing is recorded). */
+int  M2dTempRecordFile(const char *path);
+/* Stop tracking it (removed, or kept on purpose); slot < 0: no-op. */
+void M2dTempForgetFile(int slot);
+#endif
