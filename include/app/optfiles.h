@@ -17,4 +17,7 @@
  * launcher's environment: MPI is not initialised yet) and returns 1. Not
  * collective: every rank runs it on the same files and gets the same answer. */
 int M2dOptionsFilesCheck(int argc, char **argv);
+/* The options files the check above found (at most 64, as given), for the
+ * outputs to be checked against (outputpaths.h). Not collective. */
+int M2dOptionsFilesRead(const char *const **names);
 #endif

@@ -86,5 +86,4 @@ PetscErrorCode MeshFinish(MPI_Comm comm, const M2dScene *s, M2dMesh *m, DM dm, P
 /* mesh_h5.c: PETSc's HDF5 format (-mesh F.h5, -mesh_save F.h5) */
 PetscBool      MeshIsHDF5(const char *path);
 PetscErrorCode MeshLoad(MPI_Comm comm, M2dScene *s, const char *path, M2dMesh *m);
-PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
 #endif
