@@ -353,10 +353,24 @@ void M2dSignalsAwaitLauncher(void)
   }
 }
 
+/* fsync the directory of path, unless it is prev (the last one synced) */
+static void SyncDirOf(const char *path, char prev[], size_t len)
+{
+  const char *s = strrchr(path, '/');
+  char        dir[PETSC_MAX_PATH_LEN];
+
+  if (!s) snprintf(dir, sizeof(dir), ".");
+  else snprintf(dir, sizeof(dir), "%.*s", s == path ? 1 : (int)(s - path), path);
+  if (!strcmp(dir, prev)) return;
+  (void)FsyncPath(dir, O_DIRECTORY);
+  snprintf(prev, len, "%s", dir);
+}
+
 PetscErrorCode M2dFilePublish(PetscInt n, M2dFile f[])
 {
   PetscInt k = 0;
   int      e = 0, idle = ST_IDLE, sig;
+  char     prev[PETSC_MAX_PATH_LEN] = "";
 
   PetscFunctionBeginUser;
   /* if a handler is already dying on another thread, wait for its _exit */
@@ -372,14 +386,7 @@ PetscErrorCode M2dFilePublish(PetscInt n, M2dFile f[])
     }
     Forget(&f[k].slot);
   }
-  for (PetscInt j = 0; j < k; j++) { /* the renames on disk: each file's directory, once */
-    const char *s = strrchr(f[j].final, '/'), *p = j ? strrchr(f[j - 1].final, '/') : NULL;
-    int         l = s ? (int)(s - f[j].final) : -1;
-    char        dir[PETSC_MAX_PATH_LEN];
-    if (j && (p ? (int)(p - f[j - 1].final) : -1) == l && (l < 0 || !strncmp(f[j].final, f[j - 1].final, (size_t)l))) continue;
-    snprintf(dir, sizeof(dir), "%.*s", l < 0 ? 1 : l ? l : 1, l < 0 ? "." : l ? f[j].final : "/");
-    (void)FsyncPath(dir, O_DIRECTORY);
-  }
+  for (PetscInt j = 0; j < k; j++) SyncDirOf(f[j].final, prev, sizeof(prev)); /* the renames on disk */
   if (k == n && n > 0) __atomic_store_n(&output_written, 1, __ATOMIC_SEQ_CST);
   __atomic_store_n(&state, ST_IDLE, __ATOMIC_SEQ_CST);
   sig = __atomic_exchange_n(&pending_signal, 0, __ATOMIC_SEQ_CST);
