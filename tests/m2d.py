@@ -213,16 +213,17 @@ def read_json(path):
 
 
 def read_csv(path):
-    """Rows of a CSV written by the program (NAME_contact.csv), as dicts of floats."""
+    """Rows of a CSV written by the program (NAME_contact.csv), as dicts of
+    floats (without the run_id column)."""
     with open(path) as f:
-        return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        return [{k: float(v) for k, v in r.items() if k != "run_id"} for r in csv.DictReader(f)]
 
 
 def csv_columns(path):
-    """The columns of read_csv(path) as numpy arrays, by name (file order)."""
+    """The numeric columns of read_csv(path) as numpy arrays, by name (file order)."""
     import numpy as np
     with open(path) as f:
-        names = next(csv.reader(f))
+        names = [n for n in next(csv.reader(f)) if n != "run_id"]
     rows = read_csv(path)
     return {k: np.array([r[k] for r in rows], dtype=float) for k in names}
 

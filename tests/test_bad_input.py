@@ -1,7 +1,9 @@
 """Bad input: every case must end with exit code 1 (no crash, no hang), exactly
 one non-empty stderr line "mortar2d: error: ..." that names the culprit (file,
 option or physical group), and must leave a previous result in the same
--output_dir / -summary untouched (no temporary files left behind).
+-output_dir untouched (no temporary files left behind); the -summary is the
+previous one, or, for input found bad after the output paths were checked,
+the summary of the failed run: status "error" and that line.
 
 The broken meshes are written into the work directory at test time. Some cases
 also run on 2 ranks; there Open MPI's own "job aborted" banner (written by
@@ -28,7 +30,8 @@ report = T.check
 shutil.rmtree(OUT, ignore_errors=True)
 good = solve("bad_input/out", ["-options_file", opts("block"), "-mesh", mesh("block")])
 assert good["cells"] == 16, good
-KEPT = [os.path.join(OUT, n) for n in ("block.h5", "block.xmf", "block.vtu", "summary.json")]
+KEPT = [os.path.join(OUT, n) for n in ("block.h5", "block.xmf", "block.vtu")]
+GOOD_SUMMARY = open(SUMMARY, "rb").read()
 
 
 def snapshot():
@@ -177,6 +180,14 @@ for name, extra, culprits, ranklist in CASES:
         keep = preserved()
         if keep:
             problems.append("previous result not preserved: " + keep)
+        now = open(SUMMARY, "rb").read()
+        if now != GOOD_SUMMARY:
+            import json
+            j = json.loads(now)
+            if j.get("status") != "error" or "mortar2d: error: " + j.get("error", "") != line or j.get("run_id") == good["run_id"]:
+                problems.append("the summary is neither the previous one nor the failed run's: %r" % now[:300])
+            with open(SUMMARY, "wb") as f:  # the next case starts from the good one
+                f.write(GOOD_SUMMARY)
         report(not problems, what, ("; ".join(problems) + " -- stderr: " if problems else "") + line)
 
 keep = preserved()

@@ -146,7 +146,7 @@ static PetscErrorCode Estimate(const char *path, Field fn, M2dRecovery rec, M2dE
 
   PetscFunctionBeginUser;
   PetscCall(CaseCreate(path, fn, &k));
-  PetscCall(M2dEstimateError(&k.m, &k.s, k.u, NULL, rec, k.eta, NULL, e));
+  PetscCall(M2dEstimateError(&k.m, &k.s, k.u, NULL, rec, k.eta, NULL, NULL, e));
   if (true_err) PetscCall(M2dExactEnergyError(&k.m, &k.s, k.u, true_err, &nrm));
   PetscCall(CaseDestroy(&k));
   PetscFunctionReturn(0);

@@ -21,7 +21,7 @@ OURS = ["-mesh", "-mesh_dir", "-mesh_scale", "-mesh_partitioner", "-mesh_check",
         "-contact_monitor", "-contact_reach", "-exact", "-exact_p", "-exact_angle", "-mms_amplitude", "-hertz",
         "-hertz_radius", "-hertz_load", "-kkt_mat", "-kkt_path", "-kkt_ordering", "-kkt_ldlt", "-mat_mumps_icntl_4",
         "-mat_mumps_icntl_7", "-mat_mumps_icntl_8", "-mat_mumps_icntl_14", "-mat_mumps_icntl_58", "-kkt_augment", "-kkt_condensed_max",
-        "-output_dir", "-output_name", "-output_vtu", "-output_hdf5", "-summary",
+        "-output_dir", "-output_name", "-output", "-output_vtu", "-output_hdf5", "-summary",
         "-lower_E", "-lower_nu", "-upper_E", "-upper_nu"]
 # defaults that are part of the documented behaviour (README)
 DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-output_name": "solution",
@@ -29,7 +29,7 @@ DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-out
             "-kkt_ldlt": "TRUE", "-mat_mumps_icntl_14": "20", "-mesh_partitioner": "metis", "-mesh_check": "FALSE",
             "-contact_c": "auto", "-contact_reach": "auto", "-hertz_load": "auto", "-exact_p": "auto",
             "-hertz_radius": "1.", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",
-            "-mesh": "none, required", "-summary": "none", "-exact_angle": "0.", "-mortar_basis": "standard"}
+            "-mesh": "none, required", "-summary": "OUTPUT_DIR/N_summary.json", "-output": "h5,vtu,csv,summary", "-exact_angle": "0.", "-mortar_basis": "standard"}
 
 rc, out, err = run(["-help", "-bodies", "lower,upper"])
 lines = (out + err).splitlines()

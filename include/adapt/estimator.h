@@ -45,9 +45,10 @@ typedef struct {
 /* Indicators eta[] (one per local cell, caller allocates) and their global
  * sums in *e for the displacement u (global vector). ct: the contact pair after
  * ContactResults, or NULL (volume part only). eta_volume (may be NULL): the
- * same cells' volume part alone, from the same recovery. Collective on the
- * mesh's comm. */
-PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], M2dErrorEstimate *e);
+ * same cells' volume part alone, from the same recovery; nodal (may be NULL):
+ * the recovered stresses sigma_x, sigma_y, sigma_xy at every local vertex (3
+ * each, from its body's cells). Collective on the mesh's comm. */
+PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], PetscReal nodal[], M2dErrorEstimate *e);
 
 /* True energy-norm error ||sig - sig_h||_{C^-1} and ||sig||_{C^-1} (3x3 Gauss)
  * where the scene knows the answer (-exact mms: sig from finite differences of

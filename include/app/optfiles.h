@@ -25,4 +25,7 @@ int M2dOptionsFilesCheck(int argc, char **argv);
  * is one too (PETSc would read it only up to that byte). Not collective. */
 int         M2dOptionsGivenCount(void);
 const char *M2dOptionsGiven(int i, const char **file);
+/* The options files the check above found (at most 64, as given), for the
+ * outputs to be checked against (outputpaths.h). Not collective. */
+int M2dOptionsFilesRead(const char *const **names);
 #endif

@@ -5,6 +5,7 @@
 #ifndef M2D_REPORT_H
 #define M2D_REPORT_H
 #include "output.h"
+#include "summary.h"
 #include "estimator.h"
 #include "verify.h"
 
@@ -46,11 +47,11 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
  * checks v) and print them. Leaves the interface results in pb->contact in
  * the user's units. Collective. */
 PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum);
-/* Write the fields (N.h5/N.xmf, N.vtu) and the interface CSV into the
- * output set (outputset.h); the mesh's coordinates are left in the user's
- * units. Collective. */
-PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutputSet set);
-/* Add the stage times (logging.h order, then the total) and write the JSON
- * summary (-summary). Collective. */
-PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutputSet set);
+/* Write the interface CSV and the fields (N.vtu, N.h5 + N.xmf, as the output
+ * paths ask) into the run's files o (output.h), not yet in place; the mesh's
+ * coordinates are left in the user's units. Collective. */
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutput *o);
+/* Add the stage times (logging.h order, then the total) and the names of the
+ * run's files, and write the JSON summary as the last of o's files. Collective. */
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutput *o);
 #endif

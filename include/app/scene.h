@@ -4,6 +4,7 @@
 #define M2D_SCENE_H
 #include <petscsys.h>
 #include "ordering.h"
+#include "outputpaths.h"
 
 #define M2D_MAX_BODIES 8
 #define M2D_MAX_BC     32
@@ -117,10 +118,7 @@ typedef struct {
   M2dOrdering      kkt_ordering; /* fill-reducing ordering of the MUMPS factorizations */
   PetscBool        kkt_ldlt;     /* condensed path: LDL^T (MUMPS SYM = 2) */
   PetscInt         icntl4, icntl7, icntl8, icntl14, icntl58; /* condensed path's MUMPS ICNTL(n) */
-  char             outdir[PETSC_MAX_PATH_LEN];
-  char             outname[M2D_NAME_LEN];
-  char             summary[PETSC_MAX_PATH_LEN];
-  PetscBool        write_vtu, write_hdf5;
+  M2dOutputPaths   out;          /* -output_dir, -output_name, -output, -summary */
   PetscBool        help;
 } M2dScene;
 

@@ -26,8 +26,10 @@ typedef struct {
 /* Solve scene s on the mesh of src, starting the active set from warm (may be
  * NULL), check the answer and compute the report (not yet written). Collective. */
 PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src, const M2dContactState *warm, const M2dEstimatorOptions *eo, M2dStep *st);
-/* Write the step's fields, CSV and summary (Output stage). Collective. */
-PetscErrorCode M2dStepWrite(M2dStep *st);
+/* Write the step's files (fields, CSV, summary: output.h) and, when
+ * mesh_save is not NULL or "", its mesh there (MeshSave: the adaptive loop's
+ * final mesh). Output stage. Collective. */
+PetscErrorCode M2dStepWrite(M2dStep *st, const char *mesh_save);
 /* Free the step. Collective. */
 PetscErrorCode M2dStepDestroy(M2dStep *st);
 #endif

@@ -32,9 +32,16 @@ typedef struct {
 /* plane strain Hertz for a cylinder (radius R, load P per unit thickness) on a
  * half-space; the symmetry axis is x = 0 and contact is in the y direction */
 PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResult *h);
-/* a vector in the displacement layout: component 0 pressure, 1 gap (NaN off the interface) */
-PetscErrorCode ContactFillField(const M2dContact *c, Vec field);
-PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path);
+/* Point fields in the displacement layout (after ContactResults; every rank
+ * calls, rank 0 sets): field component 0 the contact pressure, 1 the gap, on
+ * the non-mortar nodes with a multiplier and, interpolated from those nodes
+ * at each node's nearest point, on the mortar surface (so either body shows
+ * them); elsewhere pressure 0 and gap NaN. active component 0: 1 or 0 on the
+ * non-mortar surface (0 where it has no multiplier), NaN elsewhere. Collective. */
+PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active);
+/* The interface as CSV, one row per multiplier sorted by x: x, y, gap,
+ * pressure, weight, active, run_id. Not collective (every rank has the rows). */
+PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp);
 /* The contact state of a solved problem, kept to start the next one (an
  * adapted mesh of the same scene): the non-mortar nodes that carried a
  * multiplier, their positions (user units) and whether they were active. */

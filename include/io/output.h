@@ -1,25 +1,35 @@
-/* output.h - results for ParaView and for scripts.
+/* output.h - the files of a run, for ParaView and for scripts.
  *
- * Rank 0 gathers the (small, 2D) mesh and fields and writes, into an output
- * set (outputset.h: all files of a run replace the previous ones at once),
- *   N.h5 + N.xmf   HDF5 with an XDMF description (ParaView: XDMF Reader)
+ * Rank 0 gathers the (small, 2D) mesh and fields and writes
  *   N.vtu          VTK unstructured grid (raw appended binary)
- * with displacement as a 3-vector and every stress component as its own scalar
- * cell field.  Equal runs give byte-identical files (no time stamps inside).
- * The JSON summary is in summary.h. */
+ *   N.h5 + N.xmf   HDF5 with an XDMF description (ParaView: XDMF Reader)
+ * with vector fields as 3-vectors (z = 0) and every other field as its own
+ * scalar; the caller adds its own files (the contact CSV, the summary)
+ * through OutputFile. Each file is written under a temporary name, and
+ * OutputCommit renames them all into place in the order they were added, the
+ * summary last (tempfile.h). Each file names the run: the .h5 in the root
+ * attribute run_id, the .xmf and .vtu in an XML comment "run_id ...". Equal
+ * runs give equal files but for that id (no time stamps inside). Paths and
+ * the id come from outputpaths.h; the JSON summary is in summary.h. */
 #ifndef M2D_OUTPUT_H
 #define M2D_OUTPUT_H
 #include "mesh.h"
-#include "outputset.h"
-#include "summary.h"
+#include "outputpaths.h"
+#include "tempfile.h"
 
-#define M2D_MAX_FIELDS 16
+#define M2D_MAX_FIELDS 20
+#define M2D_OUTPUT_FILES 8
 
+/* A point field: a global vector in the mesh's dof layout (2 per vertex), or
+ * values per local vertex (v NULL: data[stride * i + comp], the same on every
+ * rank that holds vertex i). */
 typedef struct {
-  const char *name;
-  Vec         v;      /* global vector in the mesh's dof layout (2 per vertex) */
-  PetscBool   vector; /* TRUE: one 3-vector field (z = 0); FALSE: component 0 only */
-  PetscInt    comp;   /* component written when !vector */
+  const char      *name;
+  Vec              v;
+  PetscBool        vector; /* v: one 3-vector field (z = 0); FALSE: component comp only */
+  PetscInt         comp;
+  const PetscReal *data;
+  PetscInt         stride;
 } M2dPointField;
 
 typedef struct {
@@ -28,17 +38,33 @@ typedef struct {
   PetscInt         stride, comp;
 } M2dCellField;
 
-/* Fields to write; names and vectors are borrowed (the caller keeps them). */
+/* Fields to write; names, vectors and arrays are borrowed (the caller keeps them). */
 typedef struct {
   PetscInt      npoint, ncell;
   M2dPointField point[M2D_MAX_FIELDS];
   M2dCellField  cell[M2D_MAX_FIELDS];
 } M2dFieldSet;
 
-/* Write N.vtu and/or N.h5 + N.xmf into the staging area of `set`.
- * Collective on the mesh's communicator; errors raised on every rank. */
-PetscErrorCode OutputWriteSet(const M2dMesh *m, M2dOutputSet set, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs);
-/* Earlier form: the same files as a set of their own in dir (no CSV, no
- * summary in it), committed before returning.  Collective. */
-PetscErrorCode OutputWrite(const M2dMesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs);
+/* The files of one run being written (rank 0 holds them). */
+typedef struct {
+  const M2dOutputPaths *paths;
+  MPI_Comm              comm;
+  PetscMPIInt           rank;
+  PetscInt              n;
+  M2dFile               file[M2D_OUTPUT_FILES];
+} M2dOutput;
+
+/* Start the run's output (paths checked by OutputCheckPaths). Not collective. */
+PetscErrorCode OutputBegin(MPI_Comm comm, const M2dOutputPaths *paths, M2dOutput *o);
+/* Rank 0 only: open the temporary of DIR/N<suffix>, or of the summary when
+ * suffix is NULL, for writing through *fp (complete it by OutputCommit). */
+PetscErrorCode OutputFile(M2dOutput *o, const char *suffix, FILE **fp);
+/* Write N.vtu and N.h5 + N.xmf (as paths->vtu, paths->h5 say) under their
+ * temporary names. Collective; errors raised on every rank. */
+PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs);
+/* Close the files and rename them into place, in the order they were added.
+ * Collective; errors raised on every rank, the temporaries then removed. */
+PetscErrorCode OutputCommit(M2dOutput *o);
+/* Remove the temporaries not yet in place. Not collective. */
+void OutputAbort(M2dOutput *o);
 #endif

@@ -13,6 +13,7 @@
 #ifndef M2D_SUMMARY_H
 #define M2D_SUMMARY_H
 #include <petscsys.h>
+#include <stdio.h>
 
 typedef struct {
   char    *section; /* "" top level, else object or list name */
@@ -39,6 +40,9 @@ PetscErrorCode M2dSummaryListReal(M2dSummary *s, const char *list, PetscInt inde
 PetscErrorCode M2dSummaryListInt(M2dSummary *s, const char *list, PetscInt index, const char *key, PetscInt v);
 PetscErrorCode M2dSummaryListString(M2dSummary *s, const char *list, PetscInt index, const char *key, const char *v);
 
+/* Print the summary as one JSON object (a failure recorded by the setters is
+ * not checked here: M2dSummaryWrite raises it). Not collective. */
+void M2dSummaryPrint(FILE *fp, const M2dSummary *s);
 /* Write the summary to path (rank 0 writes, through a temporary renamed when
  * complete; NULL or "": nothing).  Collective on comm; errors on every rank. */
 PetscErrorCode M2dSummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s);

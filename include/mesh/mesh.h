@@ -51,6 +51,9 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
 /* Collective. Reads the mesh module's own options (-mesh_save: save[0] = 0 if
  * not given); MeshCreate calls it, main in -help mode too, to document them. */
 PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len);
+/* Collective. Write *m (coordinates as they are now) to path in PETSc's HDF5
+ * format, as -mesh_save does; the adaptive loop saves its final mesh with it. */
+PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
 /* Not collective. Frees what MeshCreate* allocated in *m (not m itself). */
 PetscErrorCode MeshDestroy(M2dMesh *m);
 /* Not collective. Dimension of a physical group, -1 if the mesh has none of that name. */

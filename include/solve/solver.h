@@ -19,6 +19,7 @@ typedef struct {
   PetscInt         ksp_its_max; /* the most iterations of any linear solve (1 for a direct one) */
   M2dActiveSetInfo as;      /* active-set paths */
   PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
+  PetscReal       *sv;      /* the estimator's recovered stresses per local vertex (sigma_x, sigma_y, sigma_xy), or NULL */
 } M2dSolution;
 
 /* The path for scene s on mesh m (NULL: not read yet); sets s->kkt_augment

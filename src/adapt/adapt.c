@@ -744,6 +744,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
   PetscReal           est, est_min = 0;
   PetscBool           have_best = PETSC_FALSE, st_is_best = PETSC_FALSE;
   PetscErrorCode      ierr = 0;
+  char                save[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCheck(eo.enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
@@ -814,7 +815,8 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
     PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " meshes: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, StopText[why], kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
     PetscCall(WriteRecords(best.sum, nrec, rec, why, kbest));
     PetscCall(M2dSummaryReal(best.sum, "", "adapt_seconds", M2dWallTime() - t_start));
-    ierr = M2dStepWrite(&best);
+    ierr = MeshReadOptions(comm, save, sizeof(save)); /* -mesh_save: the mesh of the results written */
+    if (!ierr) ierr = M2dStepWrite(&best, save);
   }
   if (!st_is_best) PetscCall(M2dStepDestroy(&st));
   if (have_best) PetscCall(M2dStepDestroy(&best));

@@ -441,7 +441,7 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContact *ct, const Sur
 }
 
 
-PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], M2dErrorEstimate *e)
+PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, const M2dContact *ct, M2dRecovery rec, PetscReal eta[], PetscReal eta_volume[], PetscReal nodal[], M2dErrorEstimate *e)
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)m->dm);
   Ctx       x;
@@ -463,6 +463,9 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   for (PetscInt c = 0; c < nlc; c++) eta[c] = 0;
   for (PetscInt b = 0; b < s->nbody; b++) { /* one body at a time: no smoothing across bodies */
     PetscCall(RecoverBody(&x, dmr, b, rec, sv, has));
+    for (PetscInt v = 0; nodal && v < nv; v++) /* the bodies share no vertex */
+      if (has[v])
+        for (int r = 0; r < 3; r++) nodal[3 * v + r] = sv[3 * v + r];
     PetscCall(CellIndicators(&x, b, sv, eta, &loc[2]));
     if (ct) PetscCall(SurfPick(m, ct, b, sv, has, &sf));
   }

@@ -44,6 +44,24 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
   PetscFunctionReturn(0);
 }
 
+/* the output paths against each other and every file the run reads */
+static PetscErrorCode CheckOutputPaths(MPI_Comm comm, M2dScene *s)
+{
+  M2dInputFile       in[2 + 1 + 64];
+  const char *const *optfiles;
+  PetscInt           n = 0;
+  int                nopt = M2dOptionsFilesRead(&optfiles);
+  char               save[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the mesh; MeshCreate reads it again */
+  for (PetscInt i = 0; i < s->nmesh; i++) in[n++] = (M2dInputFile){"-mesh", s->mesh[i]};
+  if (s->geo[0]) in[n++] = (M2dInputFile){"-geo", s->geo};
+  for (int i = 0; i < nopt && i < 64; i++) in[n++] = (M2dInputFile){"-options_file", optfiles[i]};
+  PetscCall(OutputCheckPaths(comm, &s->out, save, n, in));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Run(MPI_Comm comm)
 {
   M2dScene            s;
@@ -65,10 +83,10 @@ static PetscErrorCode Run(MPI_Comm comm)
     PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the check; MeshCreate reads it again */
   }
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
-  PetscCall(OutputCheckPaths(comm, s.outdir, s.outname, s.summary, (PetscBool)(s.write_vtu || s.write_hdf5)));
+  PetscCall(CheckOutputPaths(comm, &s));
   if (ao.enabled) PetscFunctionReturn(AdaptRun(comm, &s, &ao, &eo)); /* model only what the scene needs */
   ierr = M2dStepSolve(comm, &s, NULL, NULL, &eo, &st);
-  if (!ierr) ierr = M2dStepWrite(&st);
+  if (!ierr) ierr = M2dStepWrite(&st, NULL); /* -mesh_save was written with the mesh */
   PetscCall(M2dStepDestroy(&st)); /* also after an error: no leak on the error exits */
   PetscCall(ierr);
   PetscFunctionReturn(0);
@@ -102,9 +120,9 @@ int main(int argc, char **argv)
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     if (rank == 0) fprintf(stderr, "mortar2d: error: %s\n", M2dFirstError());
     fflush(stderr);
+    OutputWriteFailure(M2dFirstError()); /* the summary says so (once the output paths were checked) */
     /* objects of the failed run are not freed; skip PETSc's leak report */
     PetscOptionsClearValue(NULL, "-malloc_dump");
-    M2dOutputSetAbortOpen();
     M2dSignalsBeforeFinalize();
     PetscFinalize();
     return 1;

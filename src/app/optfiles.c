@@ -25,6 +25,12 @@
 #define NAME_LEN  4096
 #define M2D_MAX_USER_OPTIONS 500 /* PETSc 3.18: 512 (MAXOPTIONS in options.c) */
 
+#define MAX_FILES 64 /* files remembered for M2dOptionsFilesRead */
+
+static char        read_name[MAX_FILES][NAME_LEN];
+static const char *read_list[MAX_FILES];
+static int         nread;
+
 typedef struct {
   int   depth;                  /* files being read, outermost first */
   char  name[MAX_DEPTH][NAME_LEN];
@@ -255,6 +261,11 @@ static int ScanFile(Scan *sc, const char *given, int require, const char *where)
     strncat(chain, name, sizeof(chain) - strlen(chain) - 1);
     return Fail("options file '%s' includes itself: %s", name, chain);
   }
+  if (nread < MAX_FILES) { /* an input the outputs may not name (outputpaths.h) */
+    snprintf(read_name[nread], NAME_LEN, "%s", name);
+    read_list[nread] = read_name[nread];
+    nread++;
+  }
   if (sc->depth == MAX_DEPTH) return Fail("options file '%s': options files nested more than %d deep", name, MAX_DEPTH);
   if (require == 2 || EndsWith(name, ".yaml") || EndsWith(name, ".yml") || EndsWith(name, ".json")) {
     if (!(fp = fopen(name, "r"))) return Fail("options file '%s' (named %s) cannot be read: %s", name, where, strerror(errno));
@@ -330,4 +341,10 @@ int M2dOptionsFilesCheck(int argc, char **argv)
    * 500-line trace past them; the program puts up to 12 of its own there */
   if (!bad && ngiven > M2D_MAX_USER_OPTIONS) bad = Fail("%d different options given (command line, options files, PETSC_OPTIONS, petscrc): PETSc holds at most %d of them for this program; give fewer", ngiven, M2D_MAX_USER_OPTIONS);
   return bad;
+}
+
+int M2dOptionsFilesRead(const char *const **names)
+{
+  *names = read_list;
+  return nread;
 }

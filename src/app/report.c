@@ -6,6 +6,7 @@
 #include "logging.h"
 #include "options.h"
 #include "util.h"
+#include <string.h>
 #include <sys/resource.h>
 
 /* stress, per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises, body (user units) */
@@ -18,14 +19,17 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pb->mesh.dm), &size));
   SummaryString(sum, "", "program", "mortar2d");
+  SummaryString(sum, "", "run_id", pb->user->out.run_id);
+  SummaryString(sum, "", "status", "ok"); /* written only by a run that got this far (else OutputWriteFailure's) */
   SummaryInt(sum, "", "dofs", 2 * pb->mesh.nvert_global);
   SummaryInt(sum, "", "cells", pb->mesh.ncell_global);
   SummaryInt(sum, "", "ranks", size);
   SummaryInt(sum, "", "bodies", pb->s.nbody);
   SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
-  SummaryInt(sum, "", "ksp_iterations", sol->ksp_its);
-  SummaryInt(sum, "", "ksp_iterations_max", sol->ksp_its_max);
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
+  /* the iteration counts of this path: one linear solve, or the active set's steps (SummarizeContact) and their solves */
+  if (sol->path == M2D_PATH_LINEAR || sol->path == M2D_PATH_TIED) SummaryInt(sum, "", "ksp_iterations", sol->ksp_its);
+  SummaryInt(sum, "", "ksp_iterations_max", sol->ksp_its_max);
   if (sol->path == M2D_PATH_ITERATIVE) {
     SummaryInt(sum, "", "ksp_iterations_total", sol->as.ksp_its_total);
     SummaryInt(sum, "", "pc_setups", sol->as.pc_setups);
@@ -35,9 +39,10 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryReal(sum, "", "strain_max", v->strain_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
-  SummaryReal(sum, "units", "length", pb->units.L);
-  SummaryReal(sum, "units", "modulus", pb->units.E);
-  SummaryReal(sum, "units", "stress", pb->units.S);
+  /* every figure is in the units of the input (the internal scaling, units.h, never shows) */
+  SummaryString(sum, "units", "length", "the mesh's coordinates x -mesh_scale");
+  SummaryString(sum, "units", "stress", "the moduli's and the loads'");
+  SummaryString(sum, "units", "force", "stress x length (per unit thickness)");
   PetscFunctionReturn(0);
 }
 
@@ -75,8 +80,13 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   SummaryReal(sum, "", "contact_force", c->force_n);
   SummaryReal(sum, "", "contact_force_x", c->force[0]);
   SummaryReal(sum, "", "contact_force_y", c->force[1]);
+  if (c->nm.body >= 0 && c->m.body >= 0) {
+    char signs[3 * M2D_NAME_LEN + 256];
+    PetscCall(PetscSNPrintf(signs, sizeof(signs), "contact_force: the integral of the contact pressure, positive in compression; contact_force_x, contact_force_y: the force of the mortar body '%s' on the non-mortar body '%s'", pb->s.body[c->m.body].name, pb->s.body[c->nm.body].name));
+    SummaryString(sum, "", "contact_force_signs", signs);
+  }
   SummaryString(sum, "", "contact_solver", sol->path == M2D_PATH_TIED ? "tied" : sol->as.vi ? "vinewtonrsls" : "pdas");
-  SummaryInt(sum, "", "iterations", sol->path == M2D_PATH_TIED ? 1 : sol->as.iterations);
+  if (sol->path != M2D_PATH_TIED) SummaryInt(sum, "", "iterations", sol->as.iterations);
   PetscCall(VecSum(sol->active, &na));
   fig->active_nodes = (PetscInt)(na + 0.5);
   SummaryInt(sum, "", "active_nodes", fig->active_nodes);
@@ -192,7 +202,7 @@ static PetscErrorCode GoalIndicators(M2dProblem *pb, M2dSolution *sol, const M2d
   PetscCall(VecDuplicate(sol->u, &z));
   PetscCall(M2dDualSolve(pb, sol, z));
   PetscCall(PetscMalloc3(nlc + 1, &az, nlc + 1, &g, nlc + 1, &h));
-  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, z, NULL, eo->recovery, az, NULL, &ez));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, z, NULL, eo->recovery, az, NULL, NULL, &ez));
   for (PetscInt c = 0; c < nlc; c++) {
     g[c] = PetscSqrtReal(eta[c] * az[c] * fig->est.energy_norm / PetscMax(ez.energy_norm, PETSC_SMALL));
     s2 += g[c] * g[c];
@@ -232,7 +242,8 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   eo = &eoc;
   PetscCall(PetscMalloc1(M2D_ETA_FIELDS * nlc + 1, &sol->eta));
   PetscCall(PetscMalloc4(nlc + 1, &a, nlc + 1, &av, nlc + 1, &h, nlc + 1, &hn));
-  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, av, est)); /* one recovery: the indicators and their volume part */
+  PetscCall(PetscMalloc1(3 * (pb->mesh.vEnd - pb->mesh.vStart) + 1, &sol->sv));
+  PetscCall(M2dEstimateError(&pb->mesh, &pb->s, sol->u, ct, eo->recovery, a, av, sol->sv, est)); /* one recovery: the indicators, their volume part, the nodal stresses */
   for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = av[c] * scale;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) PetscCall(GoalIndicators(pb, sol, eo, a, fig, hn));
@@ -288,50 +299,97 @@ PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerifica
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutputSet set)
+/* the recovered stresses per local vertex in the user's units: sigma_x,
+ * sigma_y, sigma_z (plane strain: nu (sigma_x + sigma_y) of the vertex's body),
+ * sigma_xy, von Mises; M2D_NODAL_FIELDS each */
+#define M2D_NODAL_FIELDS 5
+static PetscErrorCode NodalFields(const M2dProblem *pb, const PetscReal sv[], PetscReal **fields)
 {
-  const M2dScene *s    = pb->user;
-  MPI_Comm        comm = PetscObjectComm((PetscObject)pb->mesh.dm);
-  PetscReal      *cells;
-  Vec             u, cfield = NULL;
-  M2dFieldSet     fs;
-  const char     *cname[M2D_CELL_FIELDS] = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+  const M2dMesh *m  = &pb->mesh;
+  PetscInt       nv = m->vEnd - m->vStart;
+  PetscReal     *f, S = pb->units.S;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(M2D_NODAL_FIELDS * nv + 1, &f));
+  for (PetscInt c = 0; c < m->cEnd - m->cStart; c++) /* sigma_z's factor, by the body of a cell around the vertex */
+    for (int k = 0; k < 4; k++) f[M2D_NODAL_FIELDS * (m->cellverts[4 * c + k] - m->vStart) + 2] = pb->s.plane == M2D_PLANE_STRAIN ? pb->s.body[m->cellbody[c]].nu : 0;
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscReal *o = &f[M2D_NODAL_FIELDS * v], sx = sv[3 * v] * S, sy = sv[3 * v + 1] * S, sxy = sv[3 * v + 2] * S, sz = o[2] * (sx + sy);
+    o[0] = sx;
+    o[1] = sy;
+    o[2] = sz;
+    o[3] = sxy;
+    o[4] = PetscSqrtReal(0.5 * ((sx - sy) * (sx - sy) + (sy - sz) * (sy - sz) + (sz - sx) * (sz - sx)) + 3 * sxy * sxy);
+  }
+  *fields = f;
+  PetscFunctionReturn(0);
+}
+
+/* rank 0: the contact CSV into the run's files */
+static PetscErrorCode WriteCSV(const M2dProblem *pb, M2dOutput *o)
+{
+  PetscErrorCode ierr = 0;
+  char           err[1024] = "";
+  FILE          *fp;
+
+  PetscFunctionBeginUser;
+  if (o->rank == 0) {
+    ierr = OutputFile(o, "_contact.csv", &fp);
+    if (!ierr) ierr = ContactWriteCSV(&pb->contact, o->paths->run_id, fp);
+    if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
+  }
+  PetscCall(M2dCheckCollective(o->comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutput *o)
+{
+  PetscReal  *cells, *nodal = NULL;
+  Vec         u, cfield = NULL, afield = NULL;
+  M2dFieldSet fs;
+  const char *cname[M2D_CELL_FIELDS]  = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+  const char *nname[M2D_NODAL_FIELDS] = {"sigma_x_nodal", "sigma_y_nodal", "sigma_z_nodal", "sigma_xy_nodal", "von_mises_nodal"};
+
+  PetscFunctionBeginUser;
+  if (pb->has_contact && o->paths->csv) PetscCall(WriteCSV(pb, o));
+  if (!o->paths->vtu && !o->paths->h5) PetscFunctionReturn(0);
   PetscCall(CellFields(pb, sol->u, pb->units.S, &cells));
+  if (sol->sv) PetscCall(NodalFields(pb, sol->sv, &nodal));
   PetscCall(VecDuplicate(sol->u, &u));
   PetscCall(VecAXPY(u, pb->units.U, sol->u));
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, pb->units.L)); /* the files hold the user's coordinates */
   PetscCall(PetscMemzero(&fs, sizeof(fs)));
-  fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0};
+  fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0, NULL, 0};
   if (pb->has_contact) {
     PetscCall(VecDuplicate(u, &cfield));
-    PetscCall(ContactFillField(&pb->contact, cfield));
-    fs.point[fs.npoint++] = (M2dPointField){"contact_pressure", cfield, PETSC_FALSE, 0};
-    fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1};
+    PetscCall(VecDuplicate(u, &afield));
+    PetscCall(ContactFillField(&pb->contact, cfield, afield));
+    fs.point[fs.npoint++] = (M2dPointField){"contact_pressure", cfield, PETSC_FALSE, 0, NULL, 0};
+    fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1, NULL, 0};
+    fs.point[fs.npoint++] = (M2dPointField){"active", afield, PETSC_FALSE, 0, NULL, 0};
   }
+  for (int k = 0; nodal && k < M2D_NODAL_FIELDS; k++) fs.point[fs.npoint++] = (M2dPointField){nname[k], NULL, PETSC_FALSE, k, nodal, M2D_NODAL_FIELDS};
   for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
   if (sol->eta) {
     const char *ename[M2D_ETA_FIELDS] = {"error_indicator", "error_indicator_volume", "size_factor"};
     for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
-  if (pb->has_contact && (s->write_vtu || s->write_hdf5)) {
-    const char *csv;
-    PetscCall(M2dOutputSetFile(set, "_contact.csv", &csv));
-    PetscCall(ContactWriteCSV(comm, &pb->contact, csv));
-  }
-  PetscCall(OutputWriteSet(&pb->mesh, set, s->write_vtu, s->write_hdf5, &fs));
+  PetscCall(OutputWriteFields(&pb->mesh, o, &fs));
+  PetscCall(VecDestroy(&afield));
   PetscCall(VecDestroy(&cfield));
   PetscCall(VecDestroy(&u));
+  PetscCall(PetscFree(nodal));
   PetscCall(PetscFree(cells));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutputSet set)
+PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const double times[], M2dOutput *o)
 {
   MPI_Comm      comm = PetscObjectComm((PetscObject)pb->mesh.dm);
-  struct rusage ru;
-  PetscReal     mb;
+  struct rusage  ru;
+  PetscReal      mb;
+  PetscErrorCode ierr      = 0;
+  char           err[1024] = "";
 
   PetscFunctionBeginUser;
   getrusage(RUSAGE_SELF, &ru); /* peak resident memory of this rank (Linux: kB) */
@@ -341,10 +399,18 @@ PetscErrorCode ReportWriteSummary(const M2dProblem *pb, M2dSummary *sum, const d
   for (int k = 0; k < M2D_STAGE_COUNT; k++) SummaryReal(sum, "time", M2dStageName[k], times[k]);
   SummaryReal(sum, "time", "total", times[M2D_STAGE_COUNT]);
   PetscCall(PetscPrintf(comm, "dofs %" PetscInt_FMT ", time: mesh %.3f s, contact %.3f s, assembly %.3f s, solve %.3f s, output %.3f s, total %.3f s\n", 2 * pb->mesh.nvert_global, times[0], times[1], times[2], times[3], times[4], times[5]));
-  {
-    const char *path;
-    PetscCall(M2dOutputSetSummary(set, &path));
-    PetscCall(M2dSummaryWrite(comm, path, sum));
+  if (!o->paths->summary) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < o->n; k++) { /* the files of this run, by their names in -output_dir */
+    const char *base = strrchr(o->file[k].final, '/'), *dot = strrchr(o->file[k].final, '.');
+    SummaryString(sum, "files", dot ? dot + 1 : "file", base ? base + 1 : o->file[k].final);
   }
+  PetscCheck(!sum->err, comm, PETSC_ERR_ARG_WRONG, "%s", sum->errmsg);
+  if (o->rank == 0) { /* a write error shows when OutputCommit closes the file */
+    FILE *fp;
+    ierr = OutputFile(o, NULL, &fp);
+    if (!ierr) M2dSummaryPrint(fp, sum);
+    else PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
+  }
+  PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
 }

@@ -255,12 +255,26 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
 
 static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
+  const char *const kinds[] = {"h5", "vtu", "csv", "summary", "none"};
+  PetscBool        *flag[]  = {&s->out.h5, &s->out.vtu, &s->out.csv, &s->out.summary, NULL};
+  char             *list[5];
+  PetscInt          n = 0;
+
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_dir", "directory for the HDF5/XDMF, VTU and CSV output (created if missing)", s->outdir, sizeof(s->outdir), NULL));
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_name", "base name of the output files", s->outname, sizeof(s->outname), NULL));
-  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_vtu", "write NAME.vtu", s->write_vtu, &s->write_vtu));
-  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_hdf5", "write NAME.h5 and NAME.xmf", s->write_hdf5, &s->write_hdf5));
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-summary", "write a JSON summary of the run to this file; default: none", s->summary, sizeof(s->summary), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_dir", "directory of the output files (created if missing)", s->out.dir, sizeof(s->out.dir), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-output_name", "base name N of the output files N.h5, N.xmf, N.vtu, N_contact.csv, N_summary.json", s->out.name, sizeof(s->out.name), NULL));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-output", "files to write: h5 (and .xmf), vtu, csv, summary, or none; default: h5,vtu,csv,summary", 5, 0, list, &n));
+  for (PetscInt k = 0; k < 4 && n > 0; k++) *flag[k] = PETSC_FALSE;
+  for (PetscInt i = 0; i < n; i++) {
+    PetscInt k = 0;
+    while (k < 5 && strcasecmp(list[i], kinds[k])) k++;
+    if (k == 5 || (k == 4 && n > 1)) PetscCall(M2dOptionsDefer("option -output: '%s' is not one of h5, vtu, csv, summary (or none alone)", list[i]));
+    else if (flag[k]) *flag[k] = PETSC_TRUE;
+    PetscCall(PetscFree(list[i]));
+  }
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_vtu", "write N.vtu (as vtu in -output)", s->out.vtu, &s->out.vtu));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_hdf5", "write N.h5 and N.xmf (as h5 in -output)", s->out.h5, &s->out.h5));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-summary", "path of the JSON summary; default: OUTPUT_DIR/N_summary.json", s->out.summary_path, sizeof(s->out.summary_path), NULL));
   PetscFunctionReturn(0);
 }
 
@@ -274,7 +288,7 @@ static PetscErrorCode Defaults(M2dScene *s)
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
     .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
-    .write_vtu = PETSC_TRUE, .write_hdf5 = PETSC_TRUE, .outdir = "output", .outname = "solution",
+    .out = {.dir = "output", .name = "solution", .h5 = PETSC_TRUE, .vtu = PETSC_TRUE, .csv = PETSC_TRUE, .summary = PETSC_TRUE},
   };
   PetscFunctionReturn(0);
 }
@@ -363,7 +377,7 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   }
   PetscCheck(!s->hertz || s->hertz_load_set || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
   PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
-  PetscCheck(s->outname[0] && !strchr(s->outname, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->outname);
+  PetscCheck(s->out.name[0] && !strchr(s->out.name, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->out.name);
   PetscFunctionReturn(0);
 }
 

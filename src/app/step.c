@@ -50,24 +50,42 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dStepWrite(M2dStep *st)
+/* the run's files, the final mesh of -adapt (-mesh_save: MeshSave puts it in
+ * place at once), the summary last; then the files in place, in that order */
+static PetscErrorCode WriteAll(M2dStep *st, const char *mesh_save, M2dOutput *o, char *list, size_t len)
 {
-  MPI_Comm        comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
-  const M2dScene *s    = st->pb.user;
-  double          t0   = M2dWallTime();
-  M2dOutputSet    set  = NULL;
-  PetscBool       files = (PetscBool)(s->write_vtu || s->write_hdf5);
+  MPI_Comm comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
+  double   t0   = M2dWallTime();
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
-  PetscCall(M2dOutputSetBegin(comm, s->outdir, s->outname, s->summary, files, &set));
-  PetscCall(ReportWriteFields(&st->pb, &st->sol, set));
+  PetscCall(ReportWriteFields(&st->pb, &st->sol, o)); /* leaves the mesh in the user's units */
+  if (mesh_save && mesh_save[0]) PetscCall(MeshSave(&st->pb.mesh, st->pb.user, mesh_save));
   st->t[M2D_STAGE_OUTPUT] += M2dWallTime() - t0;
   st->t[M2D_STAGE_COUNT] += M2dWallTime() - t0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, st->t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
-  PetscCall(ReportWriteSummary(&st->pb, st->sum, st->t, set));
-  PetscCall(M2dOutputSetCommit(&set)); /* every file of the run, or none */
-  if (files) PetscCall(PetscPrintf(comm, "output written to %s/%s.{%s%s%s}\n", s->outdir, s->outname, s->write_hdf5 ? "h5,xmf" : "", s->write_hdf5 && s->write_vtu ? "," : "", s->write_vtu ? "vtu" : ""));
+  PetscCall(ReportWriteSummary(&st->pb, st->sum, st->t, o));
+  for (PetscInt k = 0; k < o->n; k++) {
+    PetscCall(PetscStrlcat(list, k ? ", " : "", len));
+    PetscCall(PetscStrlcat(list, o->file[k].final, len));
+  }
+  PetscCall(OutputCommit(o));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dStepWrite(M2dStep *st, const char *mesh_save)
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)st->pb.mesh.dm);
+  M2dOutput      o;
+  char           list[4 * PETSC_MAX_PATH_LEN] = "";
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_OUTPUT]));
+  PetscCall(OutputBegin(comm, &st->pb.user->out, &o));
+  ierr = WriteAll(st, mesh_save, &o, list, sizeof(list));
+  if (ierr) OutputAbort(&o); /* the temporaries not yet in place */
+  PetscCall(ierr);
+  if (list[0]) PetscCall(PetscPrintf(comm, "output written: %s\n", list)); /* rank 0's list */
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
 }

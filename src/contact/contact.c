@@ -109,34 +109,6 @@ PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactFillField(const M2dContact *c, Vec field)
-{
-  PetscMPIInt rank;
-  PetscInt    lo, hi;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
-  PetscCall(VecGetOwnershipRange(field, &lo, &hi));
-  { /* pressure 0 and gap NaN everywhere, then the interface values */
-    PetscScalar *a;
-    PetscCall(VecGetArray(field, &a));
-    for (PetscInt i = 0; i < hi - lo; i += 2) {
-      a[i]     = 0;
-      a[i + 1] = NAN;
-    }
-    PetscCall(VecRestoreArray(field, &a));
-  }
-  if (rank == 0)
-    for (PetscInt j = 0; j < c->R.n; j++) {
-      PetscInt g = c->nm.gdof[c->R.node[j]];
-      PetscCall(VecSetValue(field, g, c->pressure[j], INSERT_VALUES));
-      PetscCall(VecSetValue(field, g + 1, c->gap[j], INSERT_VALUES));
-    }
-  PetscCall(VecAssemblyBegin(field));
-  PetscCall(VecAssemblyEnd(field));
-  PetscFunctionReturn(0);
-}
-
 static int CmpXY(const void *a, const void *b)
 {
   const XYIdx *p = (const XYIdx *)a, *q = (const XYIdx *)b;
@@ -144,37 +116,24 @@ static int CmpXY(const void *a, const void *b)
   return (p->y > q->y) - (p->y < q->y);
 }
 
-PetscErrorCode ContactWriteCSV(MPI_Comm comm, const M2dContact *c, const char *path)
+PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp)
 {
-  PetscMPIInt    rank;
-  PetscErrorCode ierr = 0;
-  char           err[1024] = "";
+  XYIdx *o;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    M2dFile f;
-    XYIdx  *o;
-    PetscCall(PetscMalloc1(c->R.n + 1, &o));
-    for (PetscInt j = 0; j < c->R.n; j++) {
-      o[j].x = c->nm.x[2 * c->R.node[j]];
-      o[j].y = c->nm.x[2 * c->R.node[j] + 1];
-      o[j].j = j;
-    }
-    qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpXY);
-    ierr = M2dFileOpen(path, &f);
-    if (!ierr) {
-      fprintf(f.fp, "x,y,gap,pressure,weight,active\n");
-      for (PetscInt k = 0; k < c->R.n; k++) {
-        PetscInt j = o[k].j;
-        fprintf(f.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j], c->active[j] != 0);
-      }
-      ierr = M2dFileCommit(&f);
-    }
-    if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
-    PetscCall(PetscFree(o));
+  PetscCall(PetscMalloc1(c->R.n + 1, &o));
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    o[j].x = c->nm.x[2 * c->R.node[j]];
+    o[j].y = c->nm.x[2 * c->R.node[j] + 1];
+    o[j].j = j;
   }
-  PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
+  qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpXY);
+  fprintf(fp, "x,y,gap,pressure,weight,active,run_id\n");
+  for (PetscInt k = 0; k < c->R.n; k++) {
+    PetscInt j = o[k].j;
+    fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%s\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j], c->active[j] != 0, run_id);
+  }
+  PetscCall(PetscFree(o));
   PetscFunctionReturn(0);
 }
 
@@ -228,6 +187,68 @@ static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal 
         if (d < d2[pass]) d2[pass] = d, k[pass] = o[i].j;
         if (pass == 1 && k[0] < 0) return;
       }
+}
+
+PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active)
+{
+  PetscMPIInt rank;
+  XYIdx      *o;
+  PetscReal  *xy;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecSet(active, NAN));
+  { /* pressure 0 and gap NaN everywhere, then the interface values */
+    PetscScalar *a;
+    PetscInt     n;
+    PetscCall(VecGetLocalSize(field, &n));
+    PetscCall(VecGetArray(field, &a));
+    for (PetscInt i = 0; i < n; i += 2) {
+      a[i]     = 0;
+      a[i + 1] = NAN;
+    }
+    PetscCall(VecRestoreArray(field, &a));
+  }
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
+  if (rank == 0) {
+    for (PetscInt i = 0; i < c->nm.nnode; i++) PetscCall(VecSetValue(active, c->nm.gdof[i], 0.0, INSERT_VALUES));
+    for (PetscInt j = 0; j < c->R.n; j++) {
+      PetscInt g = c->nm.gdof[c->R.node[j]];
+      PetscCall(VecSetValue(field, g, c->pressure[j], INSERT_VALUES));
+      PetscCall(VecSetValue(field, g + 1, c->gap[j], INSERT_VALUES));
+      PetscCall(VecSetValue(active, g, c->active[j] != 0 ? 1.0 : 0.0, INSERT_VALUES));
+    }
+    /* the mortar surface: the non-mortar values where its node's nearest point
+     * on the chain of multiplier nodes lies, linear between two of them, none
+     * (0 and NaN) beyond its ends */
+    PetscCall(PetscMalloc2(c->R.n + 1, &o, 2 * c->R.n + 1, &xy));
+    for (PetscInt j = 0; j < c->R.n; j++) {
+      o[j].x = xy[2 * j] = c->nm.x[2 * c->R.node[j]];
+      o[j].y = xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
+      o[j].j = j;
+    }
+    qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpX);
+    for (PetscInt i = 0; i < c->m.nnode && c->R.n > 0; i++) {
+      const PetscReal *p = &c->m.x[2 * i], *a;
+      PetscInt         k[2];
+      PetscReal        t = 0, d2;
+      Nearest2(o, c->R.n, xy, p[0], p[1], k);
+      a  = &xy[2 * k[0]];
+      d2 = PetscSqr(p[0] - a[0]) + PetscSqr(p[1] - a[1]);
+      if (k[1] >= 0) {
+        const PetscReal *b  = &xy[2 * k[1]];
+        PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]);
+        t = l2 > 0 ? PetscMin(1, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2) : 0;
+      } else if (d2 > PetscSqr(1e-9 * (c->m.hi[0] - c->m.lo[0] + c->m.hi[1] - c->m.lo[1]))) continue; /* beyond the chain */
+      PetscCall(VecSetValue(field, c->m.gdof[i], (1 - t) * c->pressure[k[0]] + (k[1] >= 0 ? t * c->pressure[k[1]] : 0), INSERT_VALUES));
+      PetscCall(VecSetValue(field, c->m.gdof[i] + 1, (1 - t) * c->gap[k[0]] + (k[1] >= 0 ? t * c->gap[k[1]] : 0), INSERT_VALUES));
+    }
+    PetscCall(PetscFree2(o, xy));
+  }
+  PetscCall(VecAssemblyBegin(field));
+  PetscCall(VecAssemblyEnd(field));
+  PetscCall(VecAssemblyBegin(active));
+  PetscCall(VecAssemblyEnd(active));
+  PetscFunctionReturn(0);
 }
 
 /* Between the last active previous node A0 and the first inactive one B the

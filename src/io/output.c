@@ -1,4 +1,5 @@
-/* output.c - gather to rank 0 and write HDF5/XDMF and VTU into an output set. */
+/* output.c - gather to rank 0, write VTU and HDF5/XDMF under temporary names,
+ * and put the run's files in place (see output.h). */
 #include "output.h"
 #include "util.h"
 #include <errno.h>
@@ -14,47 +15,49 @@ typedef struct {
   double    *cdata[M2D_MAX_FIELDS]; /* 1 per cell */
 } Gathered;
 
-static PetscErrorCode GatherVec(Vec v, VecScatter sc, Vec seq, PetscInt nv, PetscBool vector, PetscInt comp, double **out, PetscMPIInt rank)
+/* rank 0: component comp (or, vector, both as a 3-vector with z = 0) of seq, the gathered dof layout */
+static PetscErrorCode CopyOut(Vec seq, PetscInt nv, PetscBool vector, PetscInt comp, double **out)
 {
+  const PetscScalar *a;
+  PetscInt           nc = vector ? 3 : 1;
+
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(sc, v, seq, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sc, v, seq, INSERT_VALUES, SCATTER_FORWARD));
-  if (rank == 0) {
-    const PetscScalar *a;
-    PetscInt           nc = vector ? 3 : 1;
-    PetscCall(PetscMalloc1(nc * nv + 1, out));
-    PetscCall(VecGetArrayRead(seq, &a));
-    for (PetscInt i = 0; i < nv; i++) {
-      if (vector) {
-        (*out)[3 * i]     = PetscRealPart(a[2 * i]);
-        (*out)[3 * i + 1] = PetscRealPart(a[2 * i + 1]);
-        (*out)[3 * i + 2] = 0;
-      } else (*out)[i] = PetscRealPart(a[2 * i + comp]);
-    }
-    PetscCall(VecRestoreArrayRead(seq, &a));
+  PetscCall(PetscMalloc1(nc * nv + 1, out));
+  PetscCall(VecGetArrayRead(seq, &a));
+  for (PetscInt i = 0; i < nv; i++) {
+    if (vector) {
+      (*out)[3 * i]     = PetscRealPart(a[2 * i]);
+      (*out)[3 * i + 1] = PetscRealPart(a[2 * i + 1]);
+      (*out)[3 * i + 2] = 0;
+    } else (*out)[i] = PetscRealPart(a[2 * i + comp]);
   }
+  PetscCall(VecRestoreArrayRead(seq, &a));
   PetscFunctionReturn(0);
 }
 
-/* vertex coordinates (in the dof layout, so that the fields' scatter serves them) and point fields */
+/* vertex coordinates and the point fields, through the dof layout (2 values per
+ * vertex) and one scatter to rank 0 each: the coordinates, each vector, and
+ * each pair of fields from one array of values per local vertex */
 static PetscErrorCode GatherPoints(const M2dMesh *m, const M2dFieldSet *fs, Gathered *g, PetscMPIInt rank)
 {
   M2dMeshArrays ar;
-  Vec           xl, xg, seq;
+  Vec           xl, xg, seq, held = NULL; /* held: the vector seq holds */
   VecScatter    sc;
   PetscScalar  *xa;
+  PetscInt      nv = m->vEnd - m->vStart, *off;
 
   PetscFunctionBeginUser;
   PetscCall(MeshArraysOpen(m, NULL, &ar));
+  PetscCall(PetscMalloc1(nv + 1, &off));
+  for (PetscInt v = 0; v < nv; v++) PetscCall(PetscSectionGetOffset(ar.lsec, m->vStart + v, &off[v]));
   PetscCall(DMGetLocalVector(m->dm, &xl));
   PetscCall(DMGetGlobalVector(m->dm, &xg));
   PetscCall(VecGetArray(xl, &xa));
-  for (PetscInt v = m->vStart; v < m->vEnd; v++) {
-    PetscInt off, coff;
-    PetscCall(PetscSectionGetOffset(ar.lsec, v, &off));
-    PetscCall(PetscSectionGetOffset(ar.cs, v, &coff));
-    xa[off]     = ar.ca[coff];
-    xa[off + 1] = ar.ca[coff + 1];
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt coff;
+    PetscCall(PetscSectionGetOffset(ar.cs, m->vStart + v, &coff));
+    xa[off[v]]     = ar.ca[coff];
+    xa[off[v] + 1] = ar.ca[coff + 1];
   }
   PetscCall(VecRestoreArray(xl, &xa));
   PetscCall(MeshArraysClose(&ar));
@@ -69,7 +72,31 @@ static PetscErrorCode GatherPoints(const M2dMesh *m, const M2dFieldSet *fs, Gath
     for (PetscInt i = 0; i < 2 * g->nv; i++) g->xy[i] = PetscRealPart(a[i]);
     PetscCall(VecRestoreArrayRead(seq, &a));
   }
-  for (PetscInt f = 0; f < fs->npoint; f++) PetscCall(GatherVec(fs->point[f].v, sc, seq, g->nv, fs->point[f].vector, fs->point[f].comp, &g->pdata[f], rank));
+  for (PetscInt f = 0; f < fs->npoint; f++) {
+    const M2dPointField *pf = &fs->point[f], *next = f + 1 < fs->npoint ? &fs->point[f + 1] : NULL;
+    if (!pf->v) { /* values per local vertex: this field and the next of the same array in one pass */
+      if (next && (next->v || next->data != pf->data)) next = NULL;
+      PetscCall(VecGetArray(xl, &xa));
+      for (PetscInt v = 0; v < nv; v++) {
+        xa[off[v]]     = pf->data[pf->stride * v + pf->comp];
+        xa[off[v] + 1] = next ? next->data[next->stride * v + next->comp] : 0;
+      }
+      PetscCall(VecRestoreArray(xl, &xa));
+      PetscCall(DMLocalToGlobal(m->dm, xl, INSERT_VALUES, xg));
+      held = NULL;
+    }
+    if (pf->v != held || !pf->v) {
+      PetscCall(VecScatterBegin(sc, pf->v ? pf->v : xg, seq, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(sc, pf->v ? pf->v : xg, seq, INSERT_VALUES, SCATTER_FORWARD));
+      held = pf->v;
+    }
+    if (rank == 0) PetscCall(CopyOut(seq, g->nv, pf->v ? pf->vector : PETSC_FALSE, pf->v ? pf->comp : 0, &g->pdata[f]));
+    if (!pf->v && next) {
+      f++;
+      if (rank == 0) PetscCall(CopyOut(seq, g->nv, PETSC_FALSE, 1, &g->pdata[f]));
+    }
+  }
+  PetscCall(PetscFree(off));
   PetscCall(VecScatterDestroy(&sc));
   PetscCall(VecDestroy(&seq));
   PetscCall(DMRestoreLocalVector(m->dm, &xl));
@@ -159,11 +186,11 @@ static void VtuBlock(FILE *fp, const void *data, uint64_t bytes)
 }
 
 /* the VTU header: one DataArray per field, offsets into the appended block */
-static void VtuHeader(FILE *fp, const Gathered *g, const M2dFieldSet *fs)
+static void VtuHeader(FILE *fp, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
   uint64_t off = 0, nv = (uint64_t)g->nv, nc = (uint64_t)g->nc;
 
-  fprintf(fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+  fprintf(fp, "<?xml version=\"1.0\"?>\n<!-- mortar2d run_id %s -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n", run_id);
   fprintf(fp, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%llu\" NumberOfCells=\"%llu\">\n", (unsigned long long)nv, (unsigned long long)nc);
   fprintf(fp, "      <PointData>\n");
   for (PetscInt k = 0; k < fs->npoint; k++) VtuArray(fp, "Float64", fs->point[k].name, fs->point[k].vector ? 3 : 1, &off, (fs->point[k].vector ? 3 : 1) * nv * sizeof(double));
@@ -178,14 +205,12 @@ static void VtuHeader(FILE *fp, const Gathered *g, const M2dFieldSet *fs)
   fprintf(fp, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
 }
 
-static PetscErrorCode WriteVTU(const char *path, const Gathered *g, const M2dFieldSet *fs)
+static PetscErrorCode WriteVTU(FILE *fp, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
-  M2dFile        f;
-  uint64_t       nv = (uint64_t)g->nv, nc = (uint64_t)g->nc;
-  double        *pts;
-  int64_t       *offs;
-  uint8_t       *types;
-  PetscErrorCode ierr;
+  uint64_t nv = (uint64_t)g->nv, nc = (uint64_t)g->nc;
+  double  *pts;
+  int64_t *offs;
+  uint8_t *types;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc3(3 * nv + 1, &pts, nc + 1, &offs, nc + 1, &types));
@@ -198,20 +223,15 @@ static PetscErrorCode WriteVTU(const char *path, const Gathered *g, const M2dFie
     offs[c]  = 4 * (int64_t)(c + 1);
     types[c] = 9; /* VTK_QUAD */
   }
-  ierr = M2dFileOpen(path, &f);
-  if (!ierr) {
-    VtuHeader(f.fp, g, fs);
-    for (PetscInt k = 0; k < fs->npoint; k++) VtuBlock(f.fp, g->pdata[k], (fs->point[k].vector ? 3 : 1) * nv * sizeof(double));
-    for (PetscInt k = 0; k < fs->ncell; k++) VtuBlock(f.fp, g->cdata[k], nc * sizeof(double));
-    VtuBlock(f.fp, pts, 3 * nv * sizeof(double));
-    VtuBlock(f.fp, g->conn, 4 * nc * sizeof(int64_t));
-    VtuBlock(f.fp, offs, nc * sizeof(int64_t));
-    VtuBlock(f.fp, types, nc);
-    fprintf(f.fp, "\n  </AppendedData>\n</VTKFile>\n");
-    ierr = M2dFileCommit(&f);
-  }
+  VtuHeader(fp, g, fs, run_id);
+  for (PetscInt k = 0; k < fs->npoint; k++) VtuBlock(fp, g->pdata[k], (fs->point[k].vector ? 3 : 1) * nv * sizeof(double));
+  for (PetscInt k = 0; k < fs->ncell; k++) VtuBlock(fp, g->cdata[k], nc * sizeof(double));
+  VtuBlock(fp, pts, 3 * nv * sizeof(double));
+  VtuBlock(fp, g->conn, 4 * nc * sizeof(int64_t));
+  VtuBlock(fp, offs, nc * sizeof(int64_t));
+  VtuBlock(fp, types, nc);
+  fprintf(fp, "\n  </AppendedData>\n</VTKFile>\n");
   PetscCall(PetscFree3(pts, offs, types));
-  PetscCall(ierr);
   PetscFunctionReturn(0);
 }
 
@@ -246,10 +266,26 @@ static herr_t H5Group(hid_t file, const char *name)
   return st;
 }
 
-static herr_t H5Fields(hid_t file, const Gathered *g, const M2dFieldSet *fs)
+/* the root attribute run_id, a fixed-length string */
+static herr_t H5RunId(hid_t file, const char *run_id)
+{
+  hid_t  type = H5Tcopy(H5T_C_S1), space = H5Screate(H5S_SCALAR), attr = -1;
+  herr_t st   = -1;
+  if (type >= 0 && space >= 0 && H5Tset_size(type, strlen(run_id)) >= 0) attr = H5Acreate2(file, "run_id", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  if (attr >= 0) {
+    st = H5Awrite(attr, type, run_id);
+    if (H5Aclose(attr) < 0) st = -1;
+  }
+  if (space >= 0) H5Sclose(space);
+  if (type >= 0) H5Tclose(type);
+  return st;
+}
+
+static herr_t H5Fields(hid_t file, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
   herr_t st = 0;
   char   name[256];
+  st |= H5RunId(file, run_id);
   st |= H5Group(file, "/geometry");
   st |= H5Group(file, "/topology");
   st |= H5Write(file, "/geometry/vertices", H5T_NATIVE_DOUBLE, 2, (hsize_t)g->nv, 2, g->xy);
@@ -267,46 +303,33 @@ static herr_t H5Fields(hid_t file, const Gathered *g, const M2dFieldSet *fs)
   return st;
 }
 
-static PetscErrorCode WriteH5(const char *path, const Gathered *g, const M2dFieldSet *fs)
+static PetscErrorCode WriteH5(const M2dFile *f, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
-  char   tmp[PETSC_MAX_PATH_LEN];
   hid_t  file, fcpl;
   herr_t st = 0;
-  int    slot, e = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dTmpName(path, tmp, sizeof(tmp)));
-  PetscCall(M2dTempRecord(tmp, PETSC_FALSE, &slot));
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0) H5Pset_obj_track_times(fcpl, 0); /* the root group */
-  file = H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);
+  file = H5Fcreate(f->tmp, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);
   if (fcpl >= 0) H5Pclose(fcpl);
   if (file < 0) st = -1;
   else {
-    st |= H5Fields(file, g, fs);
+    st |= H5Fields(file, g, fs, run_id);
     if (H5Fclose(file) < 0) st = -1;
   }
-  if (st >= 0 && rename(tmp, path)) e = errno;
-  if (st < 0 || e) unlink(tmp);
-  M2dTempForget(&slot);
-  PetscCheck(st >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed (HDF5)", M2dPublicName(path, tmp, sizeof(tmp)));
-  PetscCheck(!e, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write output file '%s': %s", M2dPublicName(path, tmp, sizeof(tmp)), strerror(e));
+  PetscCheck(st >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed (HDF5)", f->final);
   PetscFunctionReturn(0);
 }
 
 /* XDMF 2 description of the HDF5 file h5base (a name beside it); ParaView's "XDMF Reader" opens it */
-static PetscErrorCode WriteXMF(const char *path, const char *h5base, const Gathered *g, const M2dFieldSet *fs)
+static void WriteXMF(FILE *fp, const char *h5base, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
-  M2dFile    f;
-  FILE      *fp;
-  long long  nv = (long long)g->nv, nc = (long long)g->nc;
+  long long   nv = (long long)g->nv, nc = (long long)g->nc;
   const char *item = "    <DataItem Dimensions=\"%lld%s\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/%s/%s</DataItem>\n";
 
-  PetscFunctionBeginUser;
-  PetscCall(M2dFileOpen(path, &f));
-  fp = f.fp;
-  fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n <Domain>\n  <Grid Name=\"mortar2d\" GridType=\"Uniform\">\n");
+  fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<!-- mortar2d run_id %s -->\n<Xdmf Version=\"2.0\">\n <Domain>\n  <Grid Name=\"mortar2d\" GridType=\"Uniform\">\n", run_id);
   fprintf(fp, "   <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"%lld\">\n    <DataItem Dimensions=\"%lld 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">%s:/topology/cells</DataItem>\n   </Topology>\n", nc, nc, h5base);
   fprintf(fp, "   <Geometry GeometryType=\"XY\">\n");
   fprintf(fp, item, nv, " 2", h5base, "geometry", "vertices");
@@ -322,68 +345,115 @@ static PetscErrorCode WriteXMF(const char *path, const char *h5base, const Gathe
     fprintf(fp, "   </Attribute>\n");
   }
   fprintf(fp, "  </Grid>\n </Domain>\n</Xdmf>\n");
-  PetscCall(M2dFileCommit(&f));
+}
+
+/* ---------- the run's files ---------- */
+PetscErrorCode OutputBegin(MPI_Comm comm, const M2dOutputPaths *paths, M2dOutput *o)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(o, sizeof(*o)));
+  o->paths = paths;
+  o->comm  = comm;
+  PetscCallMPI(MPI_Comm_rank(comm, &o->rank));
   PetscFunctionReturn(0);
 }
 
-/* rank 0: the files of the set, one after the other */
-static PetscErrorCode WriteFiles(M2dOutputSet set, PetscBool vtu, PetscBool hdf5, const Gathered *g, const M2dFieldSet *fs)
+/* rank 0: the next file of the run (stdio: open for writing) */
+static PetscErrorCode AddFile(M2dOutput *o, const char *suffix, PetscBool stdio, M2dFile **f)
 {
-  const char *path;
-  char        h5base[M2D_NAME_MAX + 1];
+  char path[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
-  if (vtu) {
-    PetscCall(M2dOutputSetFile(set, ".vtu", &path));
-    PetscCall(WriteVTU(path, g, fs));
+  PetscCheck(o->rank == 0 && o->n < M2D_OUTPUT_FILES, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "output: more than %d files, or a file added on rank %d", M2D_OUTPUT_FILES, o->rank);
+  if (suffix) PetscCall(M2dPathPrintf(path, sizeof(path), "-output_dir", "%s/%s%s", o->paths->dir, o->paths->name, suffix));
+  else PetscCall(PetscStrncpy(path, o->paths->summary_path, sizeof(path)));
+  PetscCall(M2dFileOpen(path, stdio, &o->file[o->n]));
+  *f = &o->file[o->n++];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputFile(M2dOutput *o, const char *suffix, FILE **fp)
+{
+  M2dFile *f;
+
+  PetscFunctionBeginUser;
+  PetscCall(AddFile(o, suffix, PETSC_TRUE, &f));
+  *fp = f->fp;
+  PetscFunctionReturn(0);
+}
+
+/* rank 0: the field files, one after the other */
+static PetscErrorCode WriteFiles(M2dOutput *o, const Gathered *g, const M2dFieldSet *fs)
+{
+  const M2dOutputPaths *p = o->paths;
+  M2dFile              *f;
+  char                  h5base[M2D_NAME_MAX + 1];
+
+  PetscFunctionBeginUser;
+  if (p->vtu) {
+    PetscCall(AddFile(o, ".vtu", PETSC_TRUE, &f));
+    PetscCall(WriteVTU(f->fp, g, fs, p->run_id));
+    PetscCall(M2dFileClose(f));
     M2dTestDelay();
   }
-  if (hdf5) {
-    PetscCall(M2dOutputSetFile(set, ".h5", &path));
-    PetscCall(WriteH5(path, g, fs));
+  if (p->h5) {
+    PetscCall(AddFile(o, ".h5", PETSC_FALSE, &f));
+    PetscCall(WriteH5(f, g, fs, p->run_id));
+    PetscCall(M2dFileClose(f));
     M2dTestDelay();
-    PetscCall(M2dPathPrintf(h5base, sizeof(h5base), "-output_name", "%s.h5", M2dOutputSetName(set)));
-    PetscCall(M2dOutputSetFile(set, ".xmf", &path));
-    PetscCall(WriteXMF(path, h5base, g, fs));
+    PetscCall(M2dPathPrintf(h5base, sizeof(h5base), "-output_name", "%s.h5", p->name));
+    PetscCall(AddFile(o, ".xmf", PETSC_TRUE, &f));
+    WriteXMF(f->fp, h5base, g, fs, p->run_id);
+    PetscCall(M2dFileClose(f));
     M2dTestDelay();
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputWriteSet(const M2dMesh *m, M2dOutputSet set, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs)
+PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs)
 {
-  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
-  PetscMPIInt    rank;
   Gathered       g;
   char           err[1024] = "";
   PetscErrorCode ierr      = 0;
 
   PetscFunctionBeginUser;
-  if (!vtu && !hdf5) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!o->paths->vtu && !o->paths->h5) PetscFunctionReturn(0);
   PetscCall(Gather(m, fs, &g));
-  if (rank == 0) { /* errors here are local to rank 0: catch them and raise them everywhere */
-    ierr = WriteFiles(set, vtu, hdf5, &g, fs);
+  if (o->rank == 0) { /* errors here are local to rank 0: catch them and raise them everywhere */
+    ierr = WriteFiles(o, &g, fs);
     if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
   }
   GatheredFree(&g);
-  PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
+  PetscCall(M2dCheckCollective(o->comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputWrite(const M2dMesh *m, const char *dir, const char *name, PetscBool vtu, PetscBool hdf5, const M2dFieldSet *fs)
+PetscErrorCode OutputCommit(M2dOutput *o)
 {
-  M2dOutputSet   set = NULL;
-  PetscErrorCode ierr;
+  char           err[1024] = "";
+  PetscErrorCode ierr      = 0;
 
   PetscFunctionBeginUser;
-  if (!vtu && !hdf5) PetscFunctionReturn(0);
-  PetscCall(M2dOutputSetBegin(PetscObjectComm((PetscObject)m->dm), dir, name, NULL, PETSC_TRUE, &set));
-  ierr = OutputWriteSet(m, set, vtu, hdf5, fs);
-  if (ierr) {
-    PetscCall(M2dOutputSetAbort(&set));
-    PetscCall(ierr);
+  if (o->rank == 0) {
+    for (PetscInt k = 0; k < o->n && !ierr; k++)
+      if (o->file[k].fp) {
+        ierr = M2dFileClose(&o->file[k]);
+        M2dTestDelay();
+      }
+    if (!ierr) M2dSignalsAwaitLauncher(); /* results only once a Ctrl-C to mpiexec would have ended the run */
+    if (!ierr) ierr = M2dFilePublish(o->n, o->file);
+    if (ierr) {
+      PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
+      OutputAbort(o);
+    }
   }
-  PetscCall(M2dOutputSetCommit(&set));
+  o->n = 0;
+  PetscCall(M2dCheckCollective(o->comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
+}
+
+void OutputAbort(M2dOutput *o)
+{
+  for (PetscInt k = 0; k < o->n; k++) M2dFileAbort(&o->file[k]);
+  o->n = 0;
 }

@@ -1,5 +1,5 @@
 /* summary.c - the JSON summary (see summary.h): entries in a growing array,
- * written by rank 0 through a temporary file renamed when complete. */
+ * printed as one JSON object. */
 #include "summary.h"
 #include "util.h"
 #include <string.h>
@@ -245,27 +245,33 @@ static void WriteGroup(FILE *fp, const M2dSummary *s, PetscInt k, const char *se
   fprintf(fp, "\n  ]");
 }
 
-static PetscErrorCode WriteJSON(const char *path, const M2dSummary *s)
+void M2dSummaryPrint(FILE *fp, const M2dSummary *s)
 {
-  M2dFile f;
-  int     first = 1;
+  int first = 1;
 
-  PetscFunctionBeginUser;
-  PetscCall(M2dFileOpen(path, &f));
-  fprintf(f.fp, "{");
+  fprintf(fp, "{");
   for (PetscInt i = 0; i < s->n; i++)
     if (!s->e[i].section[0]) {
-      fprintf(f.fp, "%s\n  ", first ? "" : ",");
-      PutKey(f.fp, s->e[i].key);
-      fprintf(f.fp, ": %s", s->e[i].value);
+      fprintf(fp, "%s\n  ", first ? "" : ",");
+      PutKey(fp, s->e[i].key);
+      fprintf(fp, ": %s", s->e[i].value);
       first = 0;
     }
   for (PetscInt i = 0; i < s->n; i++)
     if (s->e[i].section[0]) {
-      WriteGroup(f.fp, s, i, first ? "" : ",");
+      WriteGroup(fp, s, i, first ? "" : ",");
       first = 0;
     }
-  fprintf(f.fp, "\n}\n");
+  fprintf(fp, "\n}\n");
+}
+
+static PetscErrorCode WriteJSON(const char *path, const M2dSummary *s)
+{
+  M2dFile f;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dFileOpen(path, PETSC_TRUE, &f));
+  M2dSummaryPrint(f.fp, s);
   PetscCall(M2dFileCommit(&f));
   PetscFunctionReturn(0);
 }

@@ -1,13 +1,16 @@
-/* tempfile.c - see tempfile.h.  The signal handler only reads the table below
- * (paths written before their `used` flag is raised), calls unlink, rmdir,
- * write and _exit: all async-signal-safe.  The commit section is a three-state
- * atomic (idle, commit, dying) so that a signal taken on any thread either
- * finds no switch in progress or is deferred until the switch is done. */
+/* tempfile.c - see tempfile.h. The signal handler only reads the table below
+ * (paths written before their `used` flag is raised), calls unlink, write,
+ * nanosleep, clock_gettime and _exit: all async-signal-safe. The publish
+ * section is a three-state atomic (idle, publish, dying) so that a signal
+ * taken on any thread either finds no rename in progress or is deferred until
+ * the renames are done. */
+#define _POSIX_C_SOURCE 200809L
 #include "tempfile.h"
 #include "temprecord.h"
 #include "util.h"
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,32 +22,31 @@
 
 typedef struct {
   volatile sig_atomic_t used;
-  int                   isdir;
   char                  path[PETSC_MAX_PATH_LEN];
 } TempEntry;
 
-enum { ST_IDLE, ST_COMMIT, ST_DYING };
+enum { ST_IDLE, ST_PUBLISH, ST_DYING };
 
-static TempEntry    temps[M2D_TEMP_MAX];
-static int          state = ST_IDLE;     /* atomics: handler and main thread */
-static int          pending_signal = 0;  /* a signal deferred by the commit section */
-static int          output_written = 0;  /* set at the end of a successful commit */
-static int          world_rank     = -1; /* only world rank 0 prints */
-static int          world_size     = 1;
-static pid_t        owner          = 0;  /* the process that recorded the table */
-static char         tag[64];
-static int          atexit_done = 0;
+static TempEntry temps[M2D_TEMP_MAX];
+static int       state          = ST_IDLE; /* atomics: handler and main thread */
+static int       pending_signal = 0;       /* a signal deferred by the publish section */
+static int       output_written = 0;       /* set at the end of a publish */
+static long long cont_ns        = 0;       /* CLOCK_MONOTONIC of the last SIGCONT, 0 none */
+static long long launched_ns    = 0;       /* CLOCK_MONOTONIC of the early handlers under a launcher, 0 none */
+static int       world_rank     = -1;      /* only world rank 0 prints */
+static int       world_size     = 1;
+static pid_t     owner          = 0; /* the process that recorded the table */
+static char      tag[64];
+static int       atexit_done = 0;
 
 static void RemoveRecorded(void)
 {
   if (getpid() != owner) return; /* a forked child owns nothing */
-  for (int pass = 0; pass < 2; pass++)
-    for (int i = M2D_TEMP_MAX - 1; i >= 0; i--) {
-      if (!temps[i].used || temps[i].isdir != pass) continue;
-      if (pass) rmdir(temps[i].path);
-      else unlink(temps[i].path);
-      temps[i].used = 0;
-    }
+  for (int i = M2D_TEMP_MAX - 1; i >= 0; i--) {
+    if (!temps[i].used) continue;
+    unlink(temps[i].path);
+    temps[i].used = 0;
+  }
 }
 
 static void Die(int sig)
@@ -63,9 +65,8 @@ static void Die(int sig)
   /* under mpiexec the job ends as soon as one rank exits (the others are
    * killed, later output is lost): rank 0, which owns the files, must be the
    * first to exit, after its line has been read; the other ranks wait for
-   * mpiexec to end them */
-  /* after an error main prints that error: mpiexec's SIGTERM to the ranks
-   * still finishing must not add a second line */
+   * mpiexec to end them. After an error main prints that error: mpiexec's
+   * SIGTERM to the ranks still finishing must not add a second line */
   if (world_rank == 0 && !M2dHaveError()) {
     ssize_t w = write(STDERR_FILENO, line, n);
     (void)w;
@@ -77,11 +78,22 @@ static void Die(int sig)
   _exit(1);
 }
 
+static long long MonotonicNs(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
 static void Handler(int sig)
 {
   int idle = ST_IDLE;
+  if (sig == SIGCONT) { /* perhaps a launcher ending the job: see M2dFilePublish */
+    __atomic_store_n(&cont_ns, MonotonicNs(), __ATOMIC_SEQ_CST);
+    return;
+  }
   if (__atomic_compare_exchange_n(&state, &idle, ST_DYING, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) Die(sig);
-  if (idle == ST_COMMIT) __atomic_store_n(&pending_signal, sig, __ATOMIC_SEQ_CST); /* acted on at CommitEnd */
+  if (idle == ST_PUBLISH) __atomic_store_n(&pending_signal, sig, __ATOMIC_SEQ_CST); /* acted on after the renames */
   /* ST_DYING: another thread is already removing the temporaries and exiting */
 }
 
@@ -102,16 +114,27 @@ const char *M2dTempTag(void)
   return tag;
 }
 
+/* SIGINT, SIGTERM, SIGHUP held (pending) or let through */
+static int Hold(int how)
+{
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  return sigprocmask(how, &set, NULL);
+}
+
 static int SetHandlers(void)
 {
   struct sigaction sa;
-  int              sigs[3] = {SIGINT, SIGTERM, SIGHUP};
+  int              sigs[4] = {SIGINT, SIGTERM, SIGHUP, SIGCONT};
 
   memset(&sa, 0, sizeof(sa));
   sa.sa_handler = Handler;
   sigemptyset(&sa.sa_mask);
   for (int k = 0; k < 3; k++) sigaddset(&sa.sa_mask, sigs[k]);
-  for (int k = 0; k < 3; k++)
+  for (int k = 0; k < 4; k++)
     if (sigaction(sigs[k], &sa, NULL)) return sigs[k];
   /* stdout only reports progress: a reader that goes away (`mortar2d ... |
    * head -1`) must not kill the run (PETSc's handler made that a 6-line
@@ -137,7 +160,8 @@ int M2dInstallEarlySignalHandlers(void)
   world_rank = EnvInt(rank_vars, 0);
   world_size = EnvInt(size_vars, 1);
   owner      = getpid();
-  return SetHandlers();
+  if (EnvInt(size_vars, 0) > 0) launched_ns = MonotonicNs(); /* see M2dSignalsAwaitLauncher */
+  return SetHandlers() || Hold(SIG_BLOCK) ? SIGINT : 0;
 }
 
 PetscErrorCode M2dInstallSignalHandlers(void)
@@ -154,6 +178,7 @@ PetscErrorCode M2dInstallSignalHandlers(void)
   (void)M2dTempTag();
   bad = SetHandlers();
   PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the handler of signal %d: %s", bad, strerror(errno));
+  PetscCheck(!Hold(SIG_UNBLOCK), PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot unblock SIGINT, SIGTERM and SIGHUP: %s", strerror(errno)); /* one that came meanwhile ends the run here */
   PetscFunctionReturn(0);
 }
 
@@ -177,7 +202,7 @@ void M2dMetisSignal(int rc, int metis_error)
   if (rc == metis_error) raise(SIGTERM); /* GKlib restored our handler on return */
 }
 
-int M2dTempTryRecord(const char *path, PetscBool isdir)
+static int Record(const char *path)
 {
   size_t n = strlen(path);
 
@@ -190,7 +215,6 @@ int M2dTempTryRecord(const char *path, PetscBool isdir)
   for (int i = 0; i < M2D_TEMP_MAX; i++) {
     if (temps[i].used) continue;
     memcpy(temps[i].path, path, n + 1);
-    temps[i].isdir = isdir ? 1 : 0;
     __atomic_thread_fence(__ATOMIC_SEQ_CST); /* the path is complete before the handler may read it */
     temps[i].used = 1;
     return i;
@@ -198,53 +222,20 @@ int M2dTempTryRecord(const char *path, PetscBool isdir)
   return -1;
 }
 
-int M2dTempRecordFile(const char *path)
-{
-  return M2dTempTryRecord(path, PETSC_FALSE);
-}
-
-void M2dTempForgetFile(int slot)
-{
-  M2dTempForget(&slot);
-}
-
-PetscErrorCode M2dTempRecord(const char *path, PetscBool isdir, int *slot)
-{
-  PetscFunctionBeginUser;
-  *slot = M2dTempTryRecord(path, isdir);
-  PetscCheck(*slot >= 0, PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot record the temporary '%.200s': path too long or more than %d temporaries", path, M2D_TEMP_MAX);
-  PetscFunctionReturn(0);
-}
-
-void M2dTempForget(int *slot)
+static void Forget(int *slot)
 {
   if (*slot >= 0 && *slot < M2D_TEMP_MAX) temps[*slot].used = 0;
   *slot = -1;
 }
 
-void M2dTempRemoveAll(void)
+int M2dTempRecordFile(const char *path)
 {
-  if (!owner) return;
-  RemoveRecorded();
+  return Record(path);
 }
 
-void M2dTempCommitBegin(void)
+void M2dTempForgetFile(int slot)
 {
-  int idle = ST_IDLE;
-  /* if a handler is already dying on another thread, wait for its _exit */
-  while (!__atomic_compare_exchange_n(&state, &idle, ST_COMMIT, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) {
-    idle = ST_IDLE;
-    pause();
-  }
-}
-
-void M2dTempCommitEnd(PetscBool written)
-{
-  int sig;
-  if (written) __atomic_store_n(&output_written, 1, __ATOMIC_SEQ_CST);
-  __atomic_store_n(&state, ST_IDLE, __ATOMIC_SEQ_CST);
-  sig = __atomic_exchange_n(&pending_signal, 0, __ATOMIC_SEQ_CST);
-  if (sig) Handler(sig);
+  Forget(&slot);
 }
 
 /* a process that exited but was not reaped yet (a zombie, e.g. a rank whose
@@ -263,61 +254,31 @@ static PetscBool Gone(long pid)
   return zombie ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* "<8 hex>.<pid>." after prefix: this host's tag of a process that is gone */
-PetscBool M2dTempIsStale(const char *name, const char *prefix, const char **rest)
+/* ".m2d.tmp.<8 hex>.<pid>." of this host and a process that is gone */
+static PetscBool Stale(const char *name)
 {
-  size_t      lp = strlen(prefix);
-  const char *t  = M2dTempTag(), *p;
+  const char *prefix = M2D_TEMP_PREFIX "tmp.", *t = M2dTempTag(), *p;
+  size_t      lp     = strlen(prefix);
   char       *end;
   long        pid;
 
-  if (strncmp(name, prefix, lp) || strncmp(name + lp, t, 9)) return PETSC_FALSE; /* other kind or host */
+  if (strncmp(name, prefix, lp) || strncmp(name + lp, t, 9)) return PETSC_FALSE; /* not ours, or another host */
   p   = name + lp + 9;
   pid = strtol(p, &end, 10);
-  if (end == p || (*end != '.' && *end != 0) || pid <= 0) return PETSC_FALSE;
-  if (rest) *rest = *end ? end + 1 : end;
-  if (pid == (long)getpid()) return PETSC_FALSE;
+  if (end == p || *end != '.' || pid <= 0 || pid == (long)getpid()) return PETSC_FALSE;
   return Gone(pid);
 }
 
-/* the temporaries of earlier versions: BASE.tmp<pid> */
-static PetscBool LegacyStale(const char *name, const char *base)
+void M2dTempRemoveStale(const char *dir)
 {
-  size_t lb = strlen(base);
-  char  *end;
-  long   pid;
-
-  if (strncmp(name, base, lb) || strncmp(name + lb, ".tmp", 4)) return PETSC_FALSE;
-  pid = strtol(name + lb + 4, &end, 10);
-  if (end == name + lb + 4 || *end || pid <= 0 || pid == (long)getpid()) return PETSC_FALSE;
-  return Gone(pid);
-}
-
-void M2dTempRemoveStale(const char *dir, const char *const *bases)
-{
-  static const char *const kinds[] = {M2D_TEMP_PREFIX "tmp.", M2D_TEMP_PREFIX "tmp-probe.", M2D_TEMP_PREFIX "tmp-link.", NULL};
-  DIR                     *d       = opendir(dir);
-  struct dirent           *e;
-  char                     path[PETSC_MAX_PATH_LEN];
+  DIR           *d = opendir(dir);
+  struct dirent *e;
+  char           path[PETSC_MAX_PATH_LEN];
 
   if (!d) return;
-  while ((e = readdir(d))) {
-    const char *rest = NULL;
-    PetscBool   bad  = PETSC_FALSE;
-    for (int k = 0; !bad && kinds[k]; k++) bad = M2dTempIsStale(e->d_name, kinds[k], &rest);
-    for (int k = 0; !bad && bases && bases[k]; k++) bad = LegacyStale(e->d_name, bases[k]);
-    if (!bad) continue;
-    if ((size_t)snprintf(path, sizeof(path), "%s/%s", dir, e->d_name) >= sizeof(path)) continue;
-    unlink(path);
-  }
+  while ((e = readdir(d)))
+    if (Stale(e->d_name) && (size_t)snprintf(path, sizeof(path), "%s/%s", dir, e->d_name) < sizeof(path)) unlink(path);
   closedir(d);
-}
-
-const char *M2dPublicName(const char *path, char *buf, size_t len)
-{
-  const char *g = strstr(path, "/" M2D_TEMP_PREFIX "gen."), *e = g ? strchr(g + 1, '/') : NULL;
-  if (!e || strchr(e + 1, '/') || (size_t)snprintf(buf, len, "%.*s%s", (int)(g - path), path, e) >= len) return path;
-  return buf;
 }
 
 PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len)
@@ -333,52 +294,127 @@ PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dFileOpen(const char *path, M2dFile *f)
+PetscErrorCode M2dFileOpen(const char *path, PetscBool stdio, M2dFile *f)
 {
   PetscFunctionBeginUser;
-  f->fp   = NULL;
-  f->slot = -1;
+  f->fp     = NULL;
+  f->slot   = -1;
   f->tmp[0] = 0;
   PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
   PetscCall(M2dTmpName(path, f->tmp, sizeof(f->tmp)));
-  PetscCall(M2dTempRecord(f->tmp, PETSC_FALSE, &f->slot));
+  f->slot = Record(f->tmp);
+  PetscCheck(f->slot >= 0, PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot record the temporary '%.200s': more than %d temporaries", f->tmp, M2D_TEMP_MAX);
+  if (!stdio) PetscFunctionReturn(0);
   f->fp = fopen(f->tmp, "wb");
   if (!f->fp) {
-    int  e = errno;
-    char pub[PETSC_MAX_PATH_LEN];
-    M2dTempForget(&f->slot);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", M2dPublicName(f->final, pub, sizeof(pub)), strerror(e));
+    int e = errno;
+    Forget(&f->slot);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file '%s': %s", f->final, strerror(e));
+  }
+  PetscFunctionReturn(0);
+}
+
+static int FsyncPath(const char *path, int flags)
+{
+  int fd = open(path, O_RDONLY | flags), r;
+  if (fd < 0) return -1;
+  r = fsync(fd);
+  if (r && (errno == EINVAL || errno == EROFS)) r = 0; /* file systems without fsync */
+  close(fd);
+  return r;
+}
+
+PetscErrorCode M2dFileClose(M2dFile *f)
+{
+  int bad = 0, e = 0;
+
+  PetscFunctionBeginUser;
+  if (f->fp) {
+    bad = ferror(f->fp) || fflush(f->fp) || fsync(fileno(f->fp));
+    if (bad) e = errno;
+    if (fclose(f->fp) && !bad) {
+      bad = 1;
+      e   = errno;
+    }
+    f->fp = NULL;
+  } else if (FsyncPath(f->tmp, 0)) {
+    bad = 1;
+    e   = errno;
+  }
+  if (bad) {
+    M2dFileAbort(f);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed: %s", f->final, e ? strerror(e) : "write error");
+  }
+  PetscFunctionReturn(0);
+}
+
+/* tempfile.h; measured: the SIGTERM 1.0007 s after the SIGCONT, so 0.3 s of margin */
+void M2dSignalsAwaitLauncher(void)
+{
+  const char *const vars[] = {"OMPI_MCA_odls_base_sigkill_timeout", NULL};
+  long long         wait   = (long long)EnvInt(vars, 1) * 1000000000LL + 300000000LL;
+
+  for (;;) { /* again after each wake-up: a SIGCONT may come while waiting */
+    long long t[2] = {__atomic_load_n(&cont_ns, __ATOMIC_SEQ_CST), launched_ns}, until = 0, now = MonotonicNs();
+    for (int k = 0; k < 2; k++)
+      if (t[k] && t[k] + wait > until) until = t[k] + wait;
+    if (now >= until) return;
+    struct timespec ts = {(time_t)((until - now) / 1000000000LL), (long)((until - now) % 1000000000LL)};
+    nanosleep(&ts, NULL);
+  }
+}
+
+/* fsync the directory of path, unless it is prev (the last one synced) */
+static void SyncDirOf(const char *path, char prev[], size_t len)
+{
+  const char *s = strrchr(path, '/');
+  char        dir[PETSC_MAX_PATH_LEN];
+
+  if (!s) snprintf(dir, sizeof(dir), ".");
+  else snprintf(dir, sizeof(dir), "%.*s", s == path ? 1 : (int)(s - path), path);
+  if (!strcmp(dir, prev)) return;
+  (void)FsyncPath(dir, O_DIRECTORY);
+  snprintf(prev, len, "%s", dir);
+}
+
+PetscErrorCode M2dFilePublish(PetscInt n, M2dFile f[])
+{
+  PetscInt k = 0;
+  int      e = 0, idle = ST_IDLE, sig;
+  char     prev[PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  /* if a handler is already dying on another thread, wait for its _exit */
+  while (!__atomic_compare_exchange_n(&state, &idle, ST_PUBLISH, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) {
+    idle = ST_IDLE;
+    pause();
+  }
+  for (; k < n; k++) {
+    if (k) M2dTestDelay(); /* tests: a SIGKILL between two renames */
+    if (rename(f[k].tmp, f[k].final)) {
+      e = errno;
+      break;
+    }
+    Forget(&f[k].slot);
+  }
+  for (PetscInt j = 0; j < k; j++) SyncDirOf(f[j].final, prev, sizeof(prev)); /* the renames on disk */
+  if (k == n && n > 0) __atomic_store_n(&output_written, 1, __ATOMIC_SEQ_CST);
+  __atomic_store_n(&state, ST_IDLE, __ATOMIC_SEQ_CST);
+  sig = __atomic_exchange_n(&pending_signal, 0, __ATOMIC_SEQ_CST);
+  if (sig) Handler(sig);
+  if (k < n) {
+    PetscInt bad = k;
+    for (; k < n; k++) M2dFileAbort(&f[k]);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot put output file '%s' in place: %s", f[bad].final, strerror(e));
   }
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode M2dFileCommit(M2dFile *f)
 {
-  int bad, e = 0;
-
   PetscFunctionBeginUser;
-  bad = ferror(f->fp) || fflush(f->fp);
-  if (bad) e = errno;
-  if (!bad && fsync(fileno(f->fp))) {
-    bad = 1;
-    e   = errno;
-  }
-  if (fclose(f->fp) && !bad) {
-    bad = 1;
-    e   = errno;
-  }
-  f->fp = NULL;
-  if (!bad && rename(f->tmp, f->final)) {
-    bad = 2;
-    e   = errno;
-  }
-  if (bad) {
-    char pub[PETSC_MAX_PATH_LEN];
-    unlink(f->tmp);
-    M2dTempForget(&f->slot);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "%s output file '%s' failed: %s", bad == 2 ? "renaming" : "writing", M2dPublicName(f->final, pub, sizeof(pub)), e ? strerror(e) : "write error");
-  }
-  M2dTempForget(&f->slot);
+  PetscCall(M2dFileClose(f));
+  PetscCall(M2dFilePublish(1, f));
   PetscFunctionReturn(0);
 }
 
@@ -387,5 +423,5 @@ void M2dFileAbort(M2dFile *f)
   if (f->fp) fclose(f->fp);
   f->fp = NULL;
   if (f->slot >= 0) unlink(f->tmp);
-  M2dTempForget(&f->slot);
+  Forget(&f->slot);
 }

@@ -82,7 +82,6 @@ PetscErrorCode MeshPlexFromLists(MPI_Comm comm, PetscInt ncl, PetscInt nvl, Pets
 PetscErrorCode MeshBuildDistributed(MPI_Comm comm, const MeshSkel *sk, const MeshLists *L, DM *dm, PetscInt **pbody, PetscInt **lab, PetscInt *nlab);
 /* mesh_h5.c: PETSc's HDF5 format (-mesh F.h5, -mesh_save F.h5) */
 PetscBool      MeshIsHDF5(const char *path);
-PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
 /* rank 0, not collective: the file -mesh_save wrote, checked, as MshRead would
  * give the same mesh from a .msh file; 0, or 1 with one line in err naming it */
 int MeshReadHDF5(const char *path, MshMesh *m, char *err, size_t len);

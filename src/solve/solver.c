@@ -226,6 +226,7 @@ PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
   PetscCall(VecDestroy(&sol->lam));
   PetscCall(VecDestroy(&sol->active));
   PetscCall(PetscFree(sol->eta));
+  PetscCall(PetscFree(sol->sv));
   PetscCall(CondensedDestroy(&sol->as.factor));
   PetscFunctionReturn(0);
 }
