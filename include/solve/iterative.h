@@ -30,13 +30,25 @@
 
 typedef struct M2dIterative M2dIterative;
 
+/* the active-set steps' use of the Krylov solver (docs/scaling.md) */
+typedef struct {
+  PetscReal inexact; /* -iterative_inexact: a step's tolerance while its set may still change */
+  PetscInt  reuse;   /* -iterative_reuse: keep the AMG while the set differs in at most this many rows */
+} M2dIterativeOptions;
+
 typedef struct {
   PetscInt solves;     /* linear solves (active-set steps) */
   PetscInt its_max;    /* most Krylov iterations of one solve */
   PetscInt its_total;  /* all Krylov iterations */
   PetscInt setups;     /* preconditioner set-ups (the others reused an earlier step's) */
   PetscInt slave_dofs; /* candidate rows = dofs eliminated when active */
+  PetscReal rtol;      /* a complete solve's tolerance (-iterative_ksp_rtol) */
+  PetscReal inexact;   /* -iterative_inexact */
 } M2dIterativeInfo;
+
+/* -iterative_inexact and -iterative_reuse (with -help, their help and
+ * defaults); one line for a value out of range. Collective. */
+PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt);
 
 /* Set up the elimination for the candidate rows R (every rank holds all of
  * them, as contact.h builds them; the KKT's rows, i.e. in the frames'
@@ -49,9 +61,14 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
  * scale C_j du = b_j, the others -(scale / c) dl_j = b_j (kkt.h,
  * KKTSetActive). Builds P^T K P and sets up the Krylov solver. Collective. */
 PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, PetscReal scale);
-/* y = J^-1 b, b and y in the KKT layout (kkt->isu, kkt->isl). Errors (one
- * line) when the Krylov method does not converge. Collective. */
-PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y);
+/* y = J^-1 b, b and y in the KKT layout (kkt->isu, kkt->isl), the u system
+ * solved to rtol of its right-hand side (0: a complete solve, to
+ * -iterative_ksp_rtol). Errors (one line) when the Krylov method does not
+ * converge. Collective. */
+PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, PetscReal rtol, Vec y);
+/* The last solve taken on from where it stopped to the smaller rtol (0: a
+ * complete solve); y as in M2dIterativeSolve. Collective. */
+PetscErrorCode M2dIterativeRefine(M2dIterative *it, PetscReal rtol, Vec y);
 /* Iteration counts so far. Not collective. */
 PetscErrorCode M2dIterativeGetInfo(const M2dIterative *it, M2dIterativeInfo *info);
 /* The Krylov solver of the u system (CG + GAMG, options prefix -iterative_,

@@ -122,6 +122,10 @@ static PetscErrorCode ContextDestroy(M2dActiveSet *as)
   PetscCall(VecDestroy(&as->tol));
   PetscCall(VecDestroy(&as->used));
   PetscCall(VecDestroy(&as->cu));
+  PetscCall(VecDestroy(&as->du));
+  PetscCall(VecDestroy(&as->cdu));
+  PetscCall(VecDestroy(&as->m[0]));
+  PetscCall(VecDestroy(&as->m[1]));
   PetscCall(VecDestroy(&as->all));
   PetscCall(VecScatterDestroy(&as->toall));
   PetscCall(CondensedDestroy(&as->cond));

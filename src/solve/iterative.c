@@ -3,6 +3,7 @@
 #include "iterative.h"
 #include "elimination.h"
 #include "logging.h"
+#include "options.h"
 #include "util.h"
 #include <petscksp.h>
 #include <string.h>
@@ -22,9 +23,17 @@ struct M2dIterative {
   Vec        bl, dl, t;          /* multiplier layout */
   PetscReal  c, scale;
   KSP        ksp;
-  PetscBool *built;     /* the set the preconditioner was built for (every row), or NULL */
-  PetscInt   its_built; /* iterations of the first solve after that build */
-  PetscInt   its_last;  /* iterations of the last solve */
+  PetscReal  rtol;       /* a complete solve's tolerance (-iterative_ksp_rtol) */
+  M2dIterativeOptions opt;
+  PetscReal  pace_built; /* iterations per decade of the first solve after the set-up */
+  PetscReal  pace_last;  /* ... of the last solve (its refinements included) */
+  PetscInt   built_at;   /* solves before the last set-up */
+  PetscBool *built;      /* the set it was built for (every row), or NULL */
+  PetscReal  r0;         /* the last solve's right-hand side norm */
+  PetscReal  rlast;      /* its residual norm now */
+  PetscReal  rpace;      /* the residual its pace counts from (r0, or where the AMG was rebuilt) */
+  PetscInt   maxit;      /* -iterative_ksp_max_it */
+  PetscInt   its_step;   /* its iterations, refinements included */
   M2dIterativeInfo info;
 };
 
@@ -153,6 +162,21 @@ PetscErrorCode M2dIterativeCreateKSP(MPI_Comm comm, KSP *ksp)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
+{
+  PetscFunctionBeginUser;
+  opt->inexact = 1e-2;
+  opt->reuse   = 2;
+  PetscOptionsBegin(comm, NULL, "Iterative path (-kkt_path iterative): active-set steps", "");
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_reuse", "keep the AMG while the set differs in at most this many rows from its set-up's", opt->reuse, &opt->reuse, NULL));
+  PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
+  PetscCheck(opt->inexact >= 0 && opt->inexact < 1, comm, PETSC_ERR_USER_INPUT, "option -iterative_inexact: %g must be in [0, 1)", (double)opt->inexact);
+  PetscCheck(opt->reuse >= -1, comm, PETSC_ERR_USER_INPUT, "option -iterative_reuse: %" PetscInt_FMT " must be >= 0 (rows; -1: a set-up every step)", opt->reuse);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, PetscInt ndir, const PetscInt drows[], M2dIterative **itp)
 {
   M2dIterative *it;
@@ -185,36 +209,35 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   PetscCall(VecDuplicate(kkt->r, &it->mask));
   PetscCall(VecScatterCreateToAll(it->mask, &it->toall, &it->all));
   PetscCall(M2dIterativeCreateKSP(it->comm, &it->ksp));
+  PetscCall(KSPGetTolerances(it->ksp, &it->rtol, NULL, NULL, &it->maxit));
+  PetscCall(M2dIterativeReadOptions(it->comm, &it->opt));
   it->info.slave_dofs = it->el.nrow;
+  it->info.rtol       = it->rtol;
+  it->info.inexact    = it->opt.inexact;
   PetscFunctionReturn(0);
 }
 
-/* Keep the preconditioner of an earlier step while the set differs from the
- * one it was built for in at most M2D_REUSE_ROWS of its rows and the last
- * solve took at most M2D_REUSE_ITS times the iterations of the first one after
- * the build (the operator then differs in a few rows: CG absorbs it in a few
- * iterations, for no set-up at all; the step that confirms a settled set
- * always reuses); otherwise build it anew. */
-#define M2D_REUSE_ROWS 0.01 /* of the rows active in either set */
-#define M2D_REUSE_ITS  1.1
+/* Keep the preconditioner of an earlier step, built for another set (the
+ * operator differs in the rows of the nodes that entered or left since: CG
+ * pays about an iteration for each), while the sets differ in at most
+ * -iterative_reuse rows and the last step converged at most M2D_REUSE_PACE
+ * times as slowly, in iterations per decade, as the first step after the
+ * set-up; otherwise build it anew (docs/scaling.md: the measurements). */
+#define M2D_REUSE_PACE 2.0
 static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on[])
 {
-  PetscInt  changed = 0, active = 0;
+  PetscInt  changed = 0;
   PetscBool reuse;
 
   PetscFunctionBeginUser;
-  if (!it->built) PetscCall(PetscMalloc1(it->el.nrow + 1, &it->built));
-  else
-    for (PetscInt j = 0; j < it->el.nrow; j++) {
-      PetscBool a = (PetscBool)(PetscRealPart(on[j]) != 0);
-      changed += a != it->built[j];
-      active += a || it->built[j];
-    }
-  reuse = (PetscBool)(it->info.solves > 0 && changed <= M2D_REUSE_ROWS * active && it->its_last <= M2D_REUSE_ITS * it->its_built);
+  if (!it->built) PetscCall(PetscCalloc1(it->el.nrow + 1, &it->built));
+  for (PetscInt j = 0; j < it->el.nrow; j++) changed += (PetscRealPart(on[j]) != 0) != it->built[j];
+  if (it->info.setups > 0 && it->info.solves == it->built_at + 1) it->pace_built = it->pace_last;
+  reuse = (PetscBool)(it->info.setups > 0 && changed <= it->opt.reuse && it->pace_last <= M2D_REUSE_PACE * it->pace_built);
   PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
   if (!reuse) {
     for (PetscInt j = 0; j < it->el.nrow; j++) it->built[j] = (PetscBool)(PetscRealPart(on[j]) != 0);
-    it->its_built = -1; /* set by the next solve */
+    it->built_at = it->info.solves;
     it->info.setups++;
   }
   PetscFunctionReturn(0);
@@ -279,11 +302,71 @@ static PetscErrorCode SolveFailed(M2dIterative *it)
   SETERRQ(it->comm, PETSC_ERR_NOT_CONVERGED, "-kkt_path iterative: the Krylov solve of active-set step %" PetscInt_FMT " did not converge (%s after %" PetscInt_FMT " iterations, residual %.3e); try -iterative_pc_type gamg, more -iterative_ksp_max_it, or -kkt_path condensed", it->info.solves, KSPConvergedReasons[reason], its, (double)rnorm);
 }
 
-PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
+/* CG on the u system to rtol of its right-hand side, from v (cont) or from 0.
+ * Under a preconditioner kept from an earlier set CG has M2D_REUSE_PACE times the
+ * iterations per decade of the first step after the set-up; past those (a
+ * rise in iterations) the preconditioner is built anew for this set and CG
+ * goes on from where it stopped. */
+static PetscErrorCode Krylov(M2dIterative *it, PetscReal rtol, PetscBool cont)
+{
+  KSPConvergedReason reason;
+  PetscInt           its, budget = it->maxit;
+  PetscReal          rnorm;
+  PetscBool          reused;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetReusePreconditioner(it->ksp, &reused));
+  if (reused) {
+    PetscReal decades = PetscLog10Real((cont ? it->rlast : it->r0) / (rtol * it->r0));
+    budget            = PetscMin(it->maxit, (PetscInt)PetscCeilReal(M2D_REUSE_PACE * it->pace_built * PetscMax(decades, 0)) + 1);
+  }
+  PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, budget));
+  PetscCall(KSPSetInitialGuessNonzero(it->ksp, cont));
+  PetscCall(KSPSolve(it->ksp, it->bu, it->v));
+  PetscCall(KSPGetConvergedReason(it->ksp, &reason));
+  PetscCall(KSPGetIterationNumber(it->ksp, &its));
+  it->its_step += its;
+  it->info.its_total += its;
+  if (reason < 0 && reused) {
+    PetscCall(KSPGetResidualNorm(it->ksp, &it->rpace)); /* the step's pace counts from here */
+    PetscCall(KSPSetReusePreconditioner(it->ksp, PETSC_FALSE));
+    it->built_at = it->info.solves - 1;
+    it->info.setups++;
+    PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, it->maxit));
+    PetscCall(KSPSetInitialGuessNonzero(it->ksp, PETSC_TRUE));
+    PetscCall(KSPSolve(it->ksp, it->bu, it->v));
+    PetscCall(KSPGetIterationNumber(it->ksp, &its));
+    it->its_step = its;
+    it->info.its_total += its;
+  }
+  PetscCall(SolveFailed(it));
+  it->info.its_max = PetscMax(it->info.its_max, it->its_step);
+  PetscCall(KSPGetResidualNorm(it->ksp, &rnorm));
+  it->rlast     = rnorm;
+  it->pace_last = rnorm > 0 && rnorm < it->rpace ? it->its_step / PetscLog10Real(it->rpace / rnorm) : 0;
+  PetscFunctionReturn(0);
+}
+
+/* y from v: du = P v + e, dl_A = (q - K du)_s / C_js, dl_I kept in bl */
+static PetscErrorCode Recover(M2dIterative *it, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatMultAdd(it->P, it->v, it->e, it->du)); /* du = P v + e */
+  PetscCall(MatMult(it->K, it->du, it->w));           /* dl_A = (q - K du)_s / C_js */
+  PetscCall(VecAYPX(it->w, -1.0, it->q));
+  PetscCall(MatMultTranspose(it->E, it->w, it->t));
+  PetscCall(VecPointwiseMult(it->t, it->t, it->mask));
+  PetscCall(VecWAXPY(it->dl, 1.0, it->bl, it->t));
+  PetscCall(VecISCopy(y, it->isu, SCATTER_FORWARD, it->du));
+  PetscCall(VecISCopy(y, it->isl, SCATTER_FORWARD, it->dl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, PetscReal rtol, Vec y)
 {
   const PetscScalar *a;
   PetscScalar       *l, *tt;
-  PetscInt           n, its;
+  PetscInt           n;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
@@ -302,30 +385,29 @@ PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
   PetscCall(VecRestoreArrayWrite(it->t, &tt));
   PetscCall(VecRestoreArray(it->bl, &l));
   PetscCall(VecRestoreArrayRead(it->mask, &a));
-  PetscCall(VecCopy(it->bl, it->dl));                   /* dl_I */
-  PetscCall(MatMultTranspose(it->C, it->dl, it->q));    /* q = b_u - C^T dl_I */
+  PetscCall(MatMultTranspose(it->C, it->bl, it->q));    /* q = b_u - C^T dl_I */
   PetscCall(VecAYPX(it->q, -1.0, it->bu));
   PetscCall(MatMult(it->E, it->t, it->e));              /* e_s = t_j / C_js */
   PetscCall(MatMult(it->K, it->e, it->w));              /* rhs = P^T (q - K e) */
   PetscCall(VecAYPX(it->w, -1.0, it->q));
   PetscCall(MatMultTranspose(it->P, it->w, it->bu));
-  PetscCall(KSPSolve(it->ksp, it->bu, it->v));
-  PetscCall(SolveFailed(it));
-  PetscCall(MatMultAdd(it->P, it->v, it->e, it->du)); /* du = P v + e */
-  PetscCall(MatMult(it->K, it->du, it->w));           /* dl_A = (q - K du)_s / C_js */
-  PetscCall(VecAYPX(it->w, -1.0, it->q));
-  PetscCall(MatMultTranspose(it->E, it->w, it->t));
-  PetscCall(VecPointwiseMult(it->t, it->t, it->mask));
-  PetscCall(VecAXPY(it->dl, 1.0, it->t));
-  PetscCall(VecISCopy(y, it->isu, SCATTER_FORWARD, it->du));
-  PetscCall(VecISCopy(y, it->isl, SCATTER_FORWARD, it->dl));
-  PetscCall(KSPGetIterationNumber(it->ksp, &its));
+  PetscCall(VecNorm(it->bu, NORM_2, &it->r0));
+  it->rpace = it->r0;
+  it->its_step = 0;
   it->info.solves++;
-  it->its_last = its;
-  if (it->its_built < 0) it->its_built = its;
+  PetscCall(Krylov(it, rtol > 0 ? rtol : it->rtol, PETSC_FALSE));
+  PetscCall(Recover(it, y));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
-  it->info.its_total += its;
-  it->info.its_max = PetscMax(it->info.its_max, its);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dIterativeRefine(M2dIterative *it, PetscReal rtol, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
+  PetscCall(Krylov(it, rtol > 0 ? rtol : it->rtol, PETSC_TRUE));
+  PetscCall(Recover(it, y));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -361,6 +443,7 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(VecDestroy(&it->w));
   PetscCall(VecDestroy(&it->e));
   PetscCall(VecDestroy(&it->v));
+
   PetscCall(VecDestroy(&it->du));
   PetscCall(VecDestroy(&it->bl));
   PetscCall(VecDestroy(&it->dl));
