@@ -33,7 +33,8 @@ typedef struct M2dIterative M2dIterative;
 /* the active-set steps' use of the Krylov solver (docs/scaling.md) */
 typedef struct {
   PetscReal inexact; /* -iterative_inexact: a step's tolerance while its set may still change */
-  PetscInt  reuse;   /* -iterative_reuse: keep the AMG while the set differs in at most this many rows */
+  PetscReal reuse;   /* -iterative_reuse: keep the AMG while a step converges at most this much slower */
+  PetscInt  zone;    /* -iterative_zone: rings around the contact dofs solved exactly (-1: none) */
 } M2dIterativeOptions;
 
 typedef struct {
@@ -42,6 +43,7 @@ typedef struct {
   PetscInt its_total;  /* all Krylov iterations */
   PetscInt setups;     /* preconditioner set-ups (the others reused an earlier step's) */
   PetscInt slave_dofs; /* candidate rows = dofs eliminated when active */
+  PetscInt zone_dofs;  /* unknowns of the contact zone (0: none) */
   PetscReal rtol;      /* a complete solve's tolerance (-iterative_ksp_rtol) */
   PetscReal inexact;   /* -iterative_inexact */
 } M2dIterativeInfo;

@@ -22,13 +22,18 @@ struct M2dIterative {
   Vec        bu, q, w, e, v, du; /* u layout */
   Vec        bl, dl, t;          /* multiplier layout */
   PetscReal  c, scale;
-  KSP        ksp;
+  KSP        ksp;          /* CG, its PC the zone's and the AMG's (ZoneApply) */
+  PC         amg;          /* the AMG (-iterative_pc_*), kept across steps */
+  IS         zone;         /* the contact zone's dofs (every one on every rank) */
+  Mat       *Z;            /* Ar on the zone (every rank holds it), or NULL */
+  KSP        zksp;         /* its LU */
+  VecScatter toz;          /* u layout -> the zone */
+  Vec        bz, xz, r, x1;
   PetscReal  rtol;       /* a complete solve's tolerance (-iterative_ksp_rtol) */
   M2dIterativeOptions opt;
   PetscReal  pace_built; /* iterations per decade of the first solve after the set-up */
   PetscReal  pace_last;  /* ... of the last solve (its refinements included) */
   PetscInt   built_at;   /* solves before the last set-up */
-  PetscBool *built;      /* the set it was built for (every row), or NULL */
   PetscReal  r0;         /* the last solve's right-hand side norm */
   PetscReal  rlast;      /* its residual norm now */
   PetscReal  rpace;      /* the residual its pace counts from (r0, or where the AMG was rebuilt) */
@@ -162,18 +167,124 @@ PetscErrorCode M2dIterativeCreateKSP(MPI_Comm comm, KSP *ksp)
   PetscFunctionReturn(0);
 }
 
+/* The contact zone: every unknown of a contact row and `layers` rings of
+ * K's neighbours around them, the same sorted list on every rank. Between
+ * two active sets P^T K P + D_S differs only there (rows and columns of the
+ * rows' unknowns and the slaves' neighbours). */
+static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
+{
+  PetscInt    n = it->el.rowptr[it->el.nrow], *z, lo, hi;
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCall(MPI_Comm_size(it->comm, &size));
+  PetscCall(MatGetOwnershipRange(it->K, &lo, &hi));
+  PetscCall(PetscMalloc1(n + 1, &z));
+  PetscCall(PetscArraycpy(z, it->el.rowcol, n));
+  PetscCall(PetscSortRemoveDupsInt(&n, z));
+  for (PetscInt l = 0; l < layers; l++) {
+    PetscInt   *mine = NULL, nm = 0, cap = 0, *all, total;
+    PetscMPIInt *cnt, *off, nmi;
+    for (PetscInt i = 0; i < n; i++) {
+      PetscInt        ncols;
+      const PetscInt *cols;
+      if (z[i] < lo || z[i] >= hi) continue;
+      PetscCall(MatGetRow(it->K, z[i], &ncols, &cols, NULL));
+      if (nm + ncols > cap) {
+        PetscInt *t;
+        cap = 2 * (nm + ncols);
+        PetscCall(PetscMalloc1(cap, &t));
+        if (mine) PetscCall(PetscArraycpy(t, mine, nm));
+        PetscCall(PetscFree(mine));
+        mine = t;
+      }
+      PetscCall(PetscArraycpy(mine + nm, cols, ncols));
+      nm += ncols;
+      PetscCall(MatRestoreRow(it->K, z[i], &ncols, &cols, NULL));
+    }
+    PetscCall(PetscSortRemoveDupsInt(&nm, mine));
+    PetscCall(PetscMalloc2(size, &cnt, size + 1, &off));
+    PetscCall(PetscMPIIntCast(nm, &nmi));
+    PetscCallMPI(MPI_Allgather(&nmi, 1, MPI_INT, cnt, 1, MPI_INT, it->comm));
+    off[0] = 0;
+    for (PetscMPIInt r = 0; r < size; r++) off[r + 1] = off[r] + cnt[r];
+    total = off[size] + n;
+    PetscCall(PetscMalloc1(total + 1, &all));
+    PetscCallMPI(MPI_Allgatherv(mine, nmi, MPIU_INT, all, cnt, off, MPIU_INT, it->comm));
+    PetscCall(PetscArraycpy(all + off[size], z, n));
+    PetscCall(PetscSortRemoveDupsInt(&total, all));
+    PetscCall(PetscFree(z));
+    PetscCall(PetscFree(mine));
+    PetscCall(PetscFree2(cnt, off));
+    z = all;
+    n = total;
+  }
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->zone));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &it->bz));
+  PetscCall(VecDuplicate(it->bz, &it->xz));
+  PetscCall(VecScatterCreate(it->bu, it->zone, it->bz, NULL, &it->toz));
+  PetscCall(KSPCreate(PETSC_COMM_SELF, &it->zksp));
+  PetscCall(KSPSetType(it->zksp, KSPPREONLY));
+  {
+    PC pc;
+    PetscCall(KSPGetPC(it->zksp, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGND));
+  }
+  it->info.zone_dofs = n;
+  PetscFunctionReturn(0);
+}
+
+/* out = R^T Z^-1 R b (every rank solves the zone's system; each keeps its own rows) */
+static PetscErrorCode ZoneSolve(M2dIterative *it, Vec b, Vec out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(it->toz, b, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->toz, b, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(KSPSolve(it->zksp, it->bz, it->xz));
+  PetscCall(VecZeroEntries(out));
+  PetscCall(VecScatterBegin(it->toz, it->xz, out, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->toz, it->xz, out, INSERT_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(0);
+}
+
+/* The preconditioner: the zone's exact solve, the AMG, the zone again
+ * (symmetric multiplicative Schwarz: CG's preconditioner stays symmetric).
+ * The zone takes what changes from step to step, so the AMG of an earlier
+ * step still serves. */
+static PetscErrorCode ZoneApply(PC pc, Vec b, Vec x)
+{
+  M2dIterative *it;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &it));
+  PetscCall(ZoneSolve(it, b, x));
+  PetscCall(MatMult(it->Ar, x, it->r)); /* r = b - A x */
+  PetscCall(VecAYPX(it->r, -1.0, b));
+  PetscCall(PCApply(it->amg, it->r, it->x1));
+  PetscCall(VecAXPY(x, 1.0, it->x1));
+  PetscCall(MatMult(it->Ar, x, it->r));
+  PetscCall(VecAYPX(it->r, -1.0, b));
+  PetscCall(ZoneSolve(it, it->r, it->x1));
+  PetscCall(VecAXPY(x, 1.0, it->x1));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
 {
   PetscFunctionBeginUser;
   opt->inexact = 1e-2;
   opt->reuse   = 2;
+  opt->zone    = 2;
   PetscOptionsBegin(comm, NULL, "Iterative path (-kkt_path iterative): active-set steps", "");
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
-  PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_reuse", "keep the AMG while the set differs in at most this many rows from its set-up's", opt->reuse, &opt->reuse, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_reuse", "keep the AMG while steps converge at most this much slower (0: new each step)", opt->reuse, &opt->reuse, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_zone", "rings of neighbours around the contact dofs solved exactly each step (-1: none)", opt->zone, &opt->zone, NULL));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   PetscCheck(opt->inexact >= 0 && opt->inexact < 1, comm, PETSC_ERR_USER_INPUT, "option -iterative_inexact: %g must be in [0, 1)", (double)opt->inexact);
-  PetscCheck(opt->reuse >= -1, comm, PETSC_ERR_USER_INPUT, "option -iterative_reuse: %" PetscInt_FMT " must be >= 0 (rows; -1: a set-up every step)", opt->reuse);
+  PetscCheck(opt->reuse == 0 || opt->reuse >= 1, comm, PETSC_ERR_USER_INPUT, "option -iterative_reuse: %g must be 0 (a new AMG every step) or >= 1", (double)opt->reuse);
+  PetscCheck(opt->zone >= -1, comm, PETSC_ERR_USER_INPUT, "option -iterative_zone: %" PetscInt_FMT " must be >= 0 (rings; -1: no zone)", opt->zone);
   PetscFunctionReturn(0);
 }
 
@@ -211,32 +322,59 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   PetscCall(M2dIterativeCreateKSP(it->comm, &it->ksp));
   PetscCall(KSPGetTolerances(it->ksp, &it->rtol, NULL, NULL, &it->maxit));
   PetscCall(M2dIterativeReadOptions(it->comm, &it->opt));
+  if (it->opt.zone >= 0) { /* the KSP's PC (the AMG) goes behind the zone's (ZoneApply) */
+    PC shell;
+    PetscCall(KSPGetPC(it->ksp, &it->amg));
+    PetscCall(PetscObjectReference((PetscObject)it->amg));
+    PetscCall(PCCreate(it->comm, &shell));
+    PetscCall(PCSetType(shell, PCSHELL));
+    PetscCall(PCShellSetContext(shell, it));
+    PetscCall(PCShellSetApply(shell, ZoneApply));
+    PetscCall(PCShellSetName(shell, "the contact zone's LU, the AMG, the zone's LU (symmetric multiplicative)"));
+    PetscCall(KSPSetPC(it->ksp, shell));
+    PetscCall(PCDestroy(&shell));
+    PetscCall(ZoneCreate(it, it->opt.zone));
+    PetscCall(VecDuplicate(it->bu, &it->r));
+    PetscCall(VecDuplicate(it->bu, &it->x1));
+  }
   it->info.slave_dofs = it->el.nrow;
   it->info.rtol       = it->rtol;
   it->info.inexact    = it->opt.inexact;
   PetscFunctionReturn(0);
 }
 
-/* Keep the preconditioner of an earlier step, built for another set (the
- * operator differs in the rows of the nodes that entered or left since: CG
- * pays about an iteration for each), while the sets differ in at most
- * -iterative_reuse rows and the last step converged at most M2D_REUSE_PACE
- * times as slowly, in iterations per decade, as the first step after the
- * set-up; otherwise build it anew (docs/scaling.md: the measurements). */
-#define M2D_REUSE_PACE 2.0
-static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on[])
+/* the AMG's reuse flag: on its own PC with the zone, else on the KSP's */
+static PetscErrorCode SetReuse(M2dIterative *it, PetscBool reuse)
 {
-  PetscInt  changed = 0;
+  PetscFunctionBeginUser;
+  if (it->amg) PetscCall(PCSetReusePreconditioner(it->amg, reuse));
+  else PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode GetReuse(M2dIterative *it, PetscBool *reuse)
+{
+  PetscFunctionBeginUser;
+  if (it->amg) PetscCall(PCGetReusePreconditioner(it->amg, reuse));
+  else PetscCall(KSPGetReusePreconditioner(it->ksp, reuse));
+  PetscFunctionReturn(0);
+}
+
+/* Keep the AMG of an earlier step, built for another set, while the last
+ * step converged at most -iterative_reuse times as slowly (iterations per
+ * decade of the residual) as the first step after the set-up; otherwise
+ * build it anew. The operator differs from the one the AMG was built for
+ * in the contact zone only, which the zone's exact solve takes (ZoneApply);
+ * without the zone each changed row costs CG about an iteration. */
+static PetscErrorCode ReusePreconditioner(M2dIterative *it)
+{
   PetscBool reuse;
 
   PetscFunctionBeginUser;
-  if (!it->built) PetscCall(PetscCalloc1(it->el.nrow + 1, &it->built));
-  for (PetscInt j = 0; j < it->el.nrow; j++) changed += (PetscRealPart(on[j]) != 0) != it->built[j];
   if (it->info.setups > 0 && it->info.solves == it->built_at + 1) it->pace_built = it->pace_last;
-  reuse = (PetscBool)(it->info.setups > 0 && changed <= it->opt.reuse && it->pace_last <= M2D_REUSE_PACE * it->pace_built);
-  PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
+  reuse = (PetscBool)(it->info.setups > 0 && it->opt.reuse > 0 && it->pace_last <= it->opt.reuse * it->pace_built);
+  PetscCall(SetReuse(it, reuse));
   if (!reuse) {
-    for (PetscInt j = 0; j < it->el.nrow; j++) it->built[j] = (PetscBool)(PetscRealPart(on[j]) != 0);
     it->built_at = it->info.solves;
     it->info.setups++;
   }
@@ -280,7 +418,14 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   PetscCall(MatDiagonalSet(it->Ar, dS, ADD_VALUES));
   PetscCall(VecDestroy(&dS));
   PetscCall(KSPSetOperators(it->ksp, it->Ar, it->Ar));
-  PetscCall(ReusePreconditioner(it, on));
+  PetscCall(ReusePreconditioner(it));
+  if (it->amg) { /* the AMG's set-up unless reused, the zone's LU */
+    PetscCall(PCSetOperators(it->amg, it->Ar, it->Ar));
+    PetscCall(PCSetUp(it->amg));
+    PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->zone, it->Z ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Z));
+    PetscCall(KSPSetOperators(it->zksp, it->Z[0], it->Z[0]));
+    PetscCall(KSPSetUp(it->zksp));
+  }
   PetscCall(KSPSetUp(it->ksp)); /* the preconditioner's set-up, unless reused */
   PetscCall(VecRestoreArrayRead(it->all, &on));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SETUP], 0, 0, 0, 0));
@@ -303,7 +448,7 @@ static PetscErrorCode SolveFailed(M2dIterative *it)
 }
 
 /* CG on the u system to rtol of its right-hand side, from v (cont) or from 0.
- * Under a preconditioner kept from an earlier set CG has M2D_REUSE_PACE times the
+ * Under a preconditioner kept from an earlier set CG has -iterative_reuse times the
  * iterations per decade of the first step after the set-up; past those (a
  * rise in iterations) the preconditioner is built anew for this set and CG
  * goes on from where it stopped. */
@@ -315,10 +460,10 @@ static PetscErrorCode Krylov(M2dIterative *it, PetscReal rtol, PetscBool cont)
   PetscBool          reused;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPGetReusePreconditioner(it->ksp, &reused));
+  PetscCall(GetReuse(it, &reused));
   if (reused) {
     PetscReal decades = PetscLog10Real((cont ? it->rlast : it->r0) / (rtol * it->r0));
-    budget            = PetscMin(it->maxit, (PetscInt)PetscCeilReal(M2D_REUSE_PACE * it->pace_built * PetscMax(decades, 0)) + 1);
+    budget            = PetscMin(it->maxit, (PetscInt)PetscCeilReal(it->opt.reuse * it->pace_built * PetscMax(decades, 0)) + 1);
   }
   PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, budget));
   PetscCall(KSPSetInitialGuessNonzero(it->ksp, cont));
@@ -329,7 +474,8 @@ static PetscErrorCode Krylov(M2dIterative *it, PetscReal rtol, PetscBool cont)
   it->info.its_total += its;
   if (reason < 0 && reused) {
     PetscCall(KSPGetResidualNorm(it->ksp, &it->rpace)); /* the step's pace counts from here */
-    PetscCall(KSPSetReusePreconditioner(it->ksp, PETSC_FALSE));
+    PetscCall(SetReuse(it, PETSC_FALSE));
+    if (it->amg) PetscCall(PCSetUp(it->amg));
     it->built_at = it->info.solves - 1;
     it->info.setups++;
     PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, it->maxit));
@@ -430,7 +576,6 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(ISDestroy(&it->isl));
   PetscCall(M2dEliminationDestroy(&it->el));
   PetscCall(PetscFree(it->own));
-  PetscCall(PetscFree(it->built));
   PetscCall(MatDestroy(&it->P));
   PetscCall(MatDestroy(&it->E));
   PetscCall(MatDestroy(&it->Ar));
@@ -449,6 +594,15 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(VecDestroy(&it->dl));
   PetscCall(VecDestroy(&it->t));
   PetscCall(KSPDestroy(&it->ksp));
+  PetscCall(PCDestroy(&it->amg));
+  PetscCall(ISDestroy(&it->zone));
+  if (it->Z) PetscCall(MatDestroySubMatrices(1, &it->Z));
+  PetscCall(KSPDestroy(&it->zksp));
+  PetscCall(VecScatterDestroy(&it->toz));
+  PetscCall(VecDestroy(&it->bz));
+  PetscCall(VecDestroy(&it->xz));
+  PetscCall(VecDestroy(&it->r));
+  PetscCall(VecDestroy(&it->x1));
   PetscCall(PetscFree(it));
   *itp = NULL;
   PetscFunctionReturn(0);
