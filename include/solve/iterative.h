@@ -1,8 +1,9 @@
 /* iterative.h - the iterative path (-kkt_path iterative): each active-set
  * step's KKT solve by eliminating the multipliers and solving a sparse SPD
- * system in u with a Krylov method and an algebraic multigrid (CG + GAMG by
- * default, prefix -iterative_), on any number of ranks: no factorization, no
- * dense block, nothing that grows with the number of ranks.
+ * system in u with a Krylov method and an algebraic multigrid (CG +
+ * BoomerAMG by default, prefix -iterative_), on any number of ranks: no
+ * factorization, no dense block, nothing that grows with the number of
+ * ranks (but the contact zone's small exact solve, held by every rank).
  *
  * With dual mortar multipliers (diagonal D) or node-to-segment rows, each
  * contact row j has a dof of its own, s(j): a dof of its non-mortar node that
@@ -20,9 +21,12 @@
  * step as the full path's factorization, to the Krylov tolerance.
  *
  * P keeps one nonzero pattern for every candidate row (explicit zeros when a
- * row is inactive), so P^T K P keeps its pattern across steps and GAMG
- * reuses its interpolation (the operator changes in a few rows per step).
- * The near-null space of K (rigid-body modes, problem.h) goes to the reduced
+ * row is inactive), so P^T K P keeps its pattern across steps. Between two
+ * sets it changes only in the contact zone (the rows' unknowns and their
+ * neighbours): the preconditioner is the zone's exact solve around the AMG
+ * (symmetric multiplicative), so the AMG of an earlier step still serves
+ * and is built anew only when CG slows down (-iterative_reuse). The
+ * near-null space of K (rigid-body modes, problem.h) goes to the reduced
  * operator, which keeps K's block size 2. */
 #ifndef M2D_ITERATIVE_H
 #define M2D_ITERATIVE_H

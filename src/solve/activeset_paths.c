@@ -125,10 +125,14 @@ static PetscErrorCode NextTest(M2dActiveSet *as, Vec y, Vec m)
   PetscFunctionReturn(0);
 }
 
-/* From the tests m1 and m2 of two solves of one step, the second ~100x more
- * accurate: *sure when every node's test m2 is farther from 0 than it moved
- * from m1 (m2's error, about 1/100 of that move, cannot flip the node), *same
- * when the set m2 gives is the step's own (the set has settled). Collective. */
+/* From the tests m1 and m2 of two solves of one step, the second with a
+ * residual M2D_REFINE times the first's: *sure when every node's test m2 is
+ * farther from 0 than M2D_SURE times it moved from m1 (CG's error in m2 is
+ * about M2D_REFINE / (1 - M2D_REFINE) of that move, ~1/9: a margin of 18
+ * times it cannot flip the node), *same when the set m2 gives is the step's
+ * own (the set has settled). Collective. */
+#define M2D_REFINE 0.1 /* each refinement of a step: this much smaller a residual */
+#define M2D_SURE   2.0
 static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure, PetscBool *same)
 {
   const PetscScalar *a, *b, *used;
@@ -141,7 +145,7 @@ static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure,
   PetscCall(VecGetArrayRead(as->used, &used));
   for (PetscInt j = 0; j < n; j++) {
     PetscReal x = PetscRealPart(b[j]);
-    if (!(PetscAbsReal(x) > PetscAbsReal(x - PetscRealPart(a[j])))) flags[0] = 0;
+    if (!(PetscAbsReal(x) > M2D_SURE * PetscAbsReal(x - PetscRealPart(a[j])))) flags[0] = 0;
     if ((x >= 0) != (PetscRealPart(used[j]) != 0)) flags[1] = 0;
   }
   PetscCall(VecRestoreArrayRead(as->used, &used));
@@ -155,11 +159,11 @@ static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure,
 
 /* Iterative path: one step, inexact while its set is not the last one. CG
  * stops at -iterative_inexact of the step's right-hand side, then goes on by
- * steps of 100x; once the next set is sure (NextSet: the same set an exact
- * solve gives), a step whose next set is another stops there, and a step
- * whose set has settled (the last one) is completed to -iterative_ksp_rtol. A
- * set never sure (a node on the boundary to round-off) ends complete too. */
-#define M2D_REFINE 0.1 /* each refinement of a step: this much smaller a residual */
+ * factors of M2D_REFINE; once the next set is sure (NextSet: the set an
+ * exact solve gives), a step whose next set is another stops there, and a
+ * step whose set has settled (the last one) is completed to
+ * -iterative_ksp_rtol: the answer is the complete solve's. A set never sure
+ * (a node on the boundary to round-off) ends complete too. */
 static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
 {
   M2dIterativeInfo ii;

@@ -24,11 +24,11 @@ struct M2dIterative {
   PetscReal  c, scale;
   KSP        ksp;          /* CG, its PC the zone's and the AMG's (ZoneApply) */
   PC         amg;          /* the AMG (-iterative_pc_*), kept across steps */
-  IS         zone;         /* the contact zone's dofs (every one on every rank) */
-  Mat       *Z;            /* Ar on the zone (every rank holds it), or NULL */
-  KSP        zksp;         /* its LU */
-  VecScatter toz;          /* u layout -> the zone */
-  Vec        bz, xz, r, x1;
+  IS         zone, halo;   /* the contact zone's dofs and one ring more (all of them on every rank) */
+  Mat       *Z, *G;        /* Ar[zone, zone] and Ar[zone, halo] (every rank), or NULL */
+  KSP        zksp;         /* Z's LU */
+  VecScatter toh, hz;      /* u layout -> the halo -> the zone */
+  Vec        bz, xz, x2z, bh, yh, r;
   PetscReal  rtol;       /* a complete solve's tolerance (-iterative_ksp_rtol) */
   M2dIterativeOptions opt;
   PetscReal  pace_built; /* iterations per decade of the first solve after the set-up */
@@ -126,6 +126,9 @@ static PetscErrorCode DefaultOptions(void)
     {"-iterative_pc_hypre_boomeramg_interp_type", "ext+i"},
     {"-iterative_pc_hypre_boomeramg_P_max", "4"},
     {"-iterative_pc_hypre_boomeramg_strong_threshold", "0.5"},
+    {"-iterative_pc_hypre_boomeramg_agg_nl", "1"},
+    {"-iterative_pc_hypre_boomeramg_relax_type_down", "SOR/Jacobi"},
+    {"-iterative_pc_hypre_boomeramg_relax_type_up", "backward-SOR/Jacobi"},
   };
   static const char *const gamg[][2] = {
     {"-iterative_pc_gamg_threshold", "0.02"},
@@ -167,62 +170,84 @@ PetscErrorCode M2dIterativeCreateKSP(MPI_Comm comm, KSP *ksp)
   PetscFunctionReturn(0);
 }
 
-/* The contact zone: every unknown of a contact row and `layers` rings of
- * K's neighbours around them, the same sorted list on every rank. Between
- * two active sets P^T K P + D_S differs only there (rows and columns of the
- * rows' unknowns and the slaves' neighbours). */
-static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
+/* the sorted list z[0..n) (the same on every rank) with K's neighbours of
+ * its unknowns added (one ring) */
+static PetscErrorCode Ring(M2dIterative *it, PetscInt *n, PetscInt **z)
 {
-  PetscInt    n = it->el.rowptr[it->el.nrow], *z, lo, hi;
-  PetscMPIInt size;
+  PetscInt     lo, hi, *mine = NULL, nm = 0, cap = 0, *all, total;
+  PetscMPIInt  size, *cnt, *off, nmi;
 
   PetscFunctionBeginUser;
-  PetscCall(MPI_Comm_size(it->comm, &size));
+  PetscCallMPI(MPI_Comm_size(it->comm, &size));
   PetscCall(MatGetOwnershipRange(it->K, &lo, &hi));
+  for (PetscInt i = 0; i < *n; i++) {
+    PetscInt        ncols;
+    const PetscInt *cols;
+    if ((*z)[i] < lo || (*z)[i] >= hi) continue;
+    PetscCall(MatGetRow(it->K, (*z)[i], &ncols, &cols, NULL));
+    if (nm + ncols > cap) {
+      PetscInt *t;
+      cap = 2 * (nm + ncols);
+      PetscCall(PetscMalloc1(cap, &t));
+      if (mine) PetscCall(PetscArraycpy(t, mine, nm));
+      PetscCall(PetscFree(mine));
+      mine = t;
+    }
+    PetscCall(PetscArraycpy(mine + nm, cols, ncols));
+    nm += ncols;
+    PetscCall(MatRestoreRow(it->K, (*z)[i], &ncols, &cols, NULL));
+  }
+  PetscCall(PetscSortRemoveDupsInt(&nm, mine));
+  PetscCall(PetscMalloc2(size, &cnt, size + 1, &off));
+  PetscCall(PetscMPIIntCast(nm, &nmi));
+  PetscCallMPI(MPI_Allgather(&nmi, 1, MPI_INT, cnt, 1, MPI_INT, it->comm));
+  off[0] = 0;
+  for (PetscMPIInt r = 0; r < size; r++) off[r + 1] = off[r] + cnt[r];
+  total = off[size] + *n;
+  PetscCall(PetscMalloc1(total + 1, &all));
+  PetscCallMPI(MPI_Allgatherv(mine, nmi, MPIU_INT, all, cnt, off, MPIU_INT, it->comm));
+  PetscCall(PetscArraycpy(all + off[size], *z, *n));
+  PetscCall(PetscSortRemoveDupsInt(&total, all));
+  PetscCall(PetscFree(*z));
+  PetscCall(PetscFree(mine));
+  PetscCall(PetscFree2(cnt, off));
+  *z = all;
+  *n = total;
+  PetscFunctionReturn(0);
+}
+
+/* The contact zone: every unknown of a contact row and `layers` rings of
+ * K's neighbours around them, and its halo (one ring more), the same sorted
+ * lists on every rank. Between two active sets P^T K P + D_S differs only in
+ * the zone (rows and columns of the rows' unknowns and the slaves'
+ * neighbours); the zone's rows couple only to the halo. */
+static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
+{
+  PetscInt n = it->el.rowptr[it->el.nrow], nh, *z, *h, *pos;
+  IS       isz;
+
+  PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(n + 1, &z));
   PetscCall(PetscArraycpy(z, it->el.rowcol, n));
   PetscCall(PetscSortRemoveDupsInt(&n, z));
-  for (PetscInt l = 0; l < layers; l++) {
-    PetscInt   *mine = NULL, nm = 0, cap = 0, *all, total;
-    PetscMPIInt *cnt, *off, nmi;
-    for (PetscInt i = 0; i < n; i++) {
-      PetscInt        ncols;
-      const PetscInt *cols;
-      if (z[i] < lo || z[i] >= hi) continue;
-      PetscCall(MatGetRow(it->K, z[i], &ncols, &cols, NULL));
-      if (nm + ncols > cap) {
-        PetscInt *t;
-        cap = 2 * (nm + ncols);
-        PetscCall(PetscMalloc1(cap, &t));
-        if (mine) PetscCall(PetscArraycpy(t, mine, nm));
-        PetscCall(PetscFree(mine));
-        mine = t;
-      }
-      PetscCall(PetscArraycpy(mine + nm, cols, ncols));
-      nm += ncols;
-      PetscCall(MatRestoreRow(it->K, z[i], &ncols, &cols, NULL));
-    }
-    PetscCall(PetscSortRemoveDupsInt(&nm, mine));
-    PetscCall(PetscMalloc2(size, &cnt, size + 1, &off));
-    PetscCall(PetscMPIIntCast(nm, &nmi));
-    PetscCallMPI(MPI_Allgather(&nmi, 1, MPI_INT, cnt, 1, MPI_INT, it->comm));
-    off[0] = 0;
-    for (PetscMPIInt r = 0; r < size; r++) off[r + 1] = off[r] + cnt[r];
-    total = off[size] + n;
-    PetscCall(PetscMalloc1(total + 1, &all));
-    PetscCallMPI(MPI_Allgatherv(mine, nmi, MPIU_INT, all, cnt, off, MPIU_INT, it->comm));
-    PetscCall(PetscArraycpy(all + off[size], z, n));
-    PetscCall(PetscSortRemoveDupsInt(&total, all));
-    PetscCall(PetscFree(z));
-    PetscCall(PetscFree(mine));
-    PetscCall(PetscFree2(cnt, off));
-    z = all;
-    n = total;
-  }
+  for (PetscInt l = 0; l < layers; l++) PetscCall(Ring(it, &n, &z));
+  nh = n;
+  PetscCall(PetscMalloc1(n + 1, &h));
+  PetscCall(PetscArraycpy(h, z, n));
+  PetscCall(Ring(it, &nh, &h));
+  PetscCall(PetscMalloc1(n + 1, &pos)); /* the zone's places in the halo */
+  for (PetscInt i = 0; i < n; i++) PetscCall(PetscFindInt(z[i], nh, h, &pos[i]));
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->zone));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nh, h, PETSC_OWN_POINTER, &it->halo));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &it->bz));
   PetscCall(VecDuplicate(it->bz, &it->xz));
-  PetscCall(VecScatterCreate(it->bu, it->zone, it->bz, NULL, &it->toz));
+  PetscCall(VecDuplicate(it->bz, &it->x2z));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, nh, &it->bh));
+  PetscCall(VecDuplicate(it->bh, &it->yh));
+  PetscCall(VecScatterCreate(it->bu, it->halo, it->bh, NULL, &it->toh));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, pos, PETSC_OWN_POINTER, &isz));
+  PetscCall(VecScatterCreate(it->bh, isz, it->bz, NULL, &it->hz)); /* halo -> zone (sequential) */
+  PetscCall(ISDestroy(&isz));
   PetscCall(KSPCreate(PETSC_COMM_SELF, &it->zksp));
   PetscCall(KSPSetType(it->zksp, KSPPREONLY));
   {
@@ -235,38 +260,48 @@ static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
   PetscFunctionReturn(0);
 }
 
-/* out = R^T Z^-1 R b (every rank solves the zone's system; each keeps its own rows) */
-static PetscErrorCode ZoneSolve(M2dIterative *it, Vec b, Vec out)
-{
-  PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(it->toz, b, it->bz, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(it->toz, b, it->bz, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(KSPSolve(it->zksp, it->bz, it->xz));
-  PetscCall(VecZeroEntries(out));
-  PetscCall(VecScatterBegin(it->toz, it->xz, out, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(it->toz, it->xz, out, INSERT_VALUES, SCATTER_REVERSE));
-  PetscFunctionReturn(0);
-}
-
-/* The preconditioner: the zone's exact solve, the AMG, the zone again
- * (symmetric multiplicative Schwarz: CG's preconditioner stays symmetric).
- * The zone takes what changes from step to step, so the AMG of an earlier
- * step still serves. */
+/* The preconditioner, x = B b: the zone's exact solve, the AMG on what is
+ * left, the zone again (symmetric multiplicative Schwarz, so CG's
+ * preconditioner stays symmetric). The zone takes what changes from step
+ * to step, so the AMG of an earlier step still serves. Everything but the
+ * AMG is on the zone and its halo, held by every rank: with Z = Ar[zone,
+ * zone] and G = Ar[zone, halo],
+ *   x1 = Z^-1 b_z;  r = b - G^T x1 (on the halo);  y = AMG r;
+ *   x2 = Z^-1 (b_z - G (x1 + y)_halo);  x = y + x1 + x2 (on the zone). */
 static PetscErrorCode ZoneApply(PC pc, Vec b, Vec x)
 {
   M2dIterative *it;
 
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &it));
-  PetscCall(ZoneSolve(it, b, x));
-  PetscCall(MatMult(it->Ar, x, it->r)); /* r = b - A x */
-  PetscCall(VecAYPX(it->r, -1.0, b));
-  PetscCall(PCApply(it->amg, it->r, it->x1));
-  PetscCall(VecAXPY(x, 1.0, it->x1));
-  PetscCall(MatMult(it->Ar, x, it->r));
-  PetscCall(VecAYPX(it->r, -1.0, b));
-  PetscCall(ZoneSolve(it, it->r, it->x1));
-  PetscCall(VecAXPY(x, 1.0, it->x1));
+  PetscCall(VecScatterBegin(it->toh, b, it->bh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->toh, b, it->bh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(it->hz, it->bh, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->hz, it->bh, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(KSPSolve(it->zksp, it->bz, it->xz));          /* x1 */
+  PetscCall(MatMultTranspose(it->G[0], it->xz, it->yh));  /* r_h = b_h - G^T x1 */
+  PetscCall(VecAYPX(it->yh, -1.0, it->bh));
+  PetscCall(VecCopy(b, it->r));
+  PetscCall(VecScatterBegin(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(PCApply(it->amg, it->r, x));                  /* y */
+  PetscCall(VecScatterBegin(it->toh, x, it->yh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->toh, x, it->yh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(it->hz, it->xz, it->yh, ADD_VALUES, SCATTER_REVERSE)); /* (x1 + y)_h */
+  PetscCall(VecScatterEnd(it->hz, it->xz, it->yh, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(MatMult(it->G[0], it->yh, it->bz));           /* b_z - G (x1 + y)_h */
+  PetscCall(VecScatterBegin(it->hz, it->bh, it->x2z, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->hz, it->bh, it->x2z, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecAYPX(it->bz, -1.0, it->x2z));
+  PetscCall(KSPSolve(it->zksp, it->bz, it->x2z));         /* x2 */
+  PetscCall(VecAXPY(it->xz, 1.0, it->x2z));               /* x = y + x1 + x2 on the zone */
+  PetscCall(VecZeroEntries(it->yh));
+  PetscCall(VecScatterBegin(it->hz, it->xz, it->yh, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->hz, it->xz, it->yh, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecZeroEntries(it->r));
+  PetscCall(VecScatterBegin(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecAXPY(x, 1.0, it->r));
   PetscFunctionReturn(0);
 }
 
@@ -335,7 +370,6 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
     PetscCall(PCDestroy(&shell));
     PetscCall(ZoneCreate(it, it->opt.zone));
     PetscCall(VecDuplicate(it->bu, &it->r));
-    PetscCall(VecDuplicate(it->bu, &it->x1));
   }
   it->info.slave_dofs = it->el.nrow;
   it->info.rtol       = it->rtol;
@@ -423,6 +457,7 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
     PetscCall(PCSetOperators(it->amg, it->Ar, it->Ar));
     PetscCall(PCSetUp(it->amg));
     PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->zone, it->Z ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Z));
+    PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->halo, it->G ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->G));
     PetscCall(KSPSetOperators(it->zksp, it->Z[0], it->Z[0]));
     PetscCall(KSPSetUp(it->zksp));
   }
@@ -596,13 +631,18 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(KSPDestroy(&it->ksp));
   PetscCall(PCDestroy(&it->amg));
   PetscCall(ISDestroy(&it->zone));
+  PetscCall(ISDestroy(&it->halo));
   if (it->Z) PetscCall(MatDestroySubMatrices(1, &it->Z));
+  if (it->G) PetscCall(MatDestroySubMatrices(1, &it->G));
   PetscCall(KSPDestroy(&it->zksp));
-  PetscCall(VecScatterDestroy(&it->toz));
+  PetscCall(VecScatterDestroy(&it->toh));
+  PetscCall(VecScatterDestroy(&it->hz));
   PetscCall(VecDestroy(&it->bz));
   PetscCall(VecDestroy(&it->xz));
+  PetscCall(VecDestroy(&it->x2z));
+  PetscCall(VecDestroy(&it->bh));
+  PetscCall(VecDestroy(&it->yh));
   PetscCall(VecDestroy(&it->r));
-  PetscCall(VecDestroy(&it->x1));
   PetscCall(PetscFree(it));
   *itp = NULL;
   PetscFunctionReturn(0);
