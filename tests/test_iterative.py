@@ -84,7 +84,7 @@ for nr in (1, 2):
     ref = solve("iter_set_default_%d" % nr, h2, ranks=nr)
     vr = sorted_fields(workdir("iter_set_default_%d" % nr) + "/sol.h5")[0]
     for k, (what, extra) in enumerate((("complete steps, a new AMG each", complete), ("no inexact steps", ["-iterative_inexact", "0"]),
-                        ("no zone", ["-iterative_zone", "-1"]), ("a new AMG each step", ["-iterative_reuse", "0"])))):
+                        ("no zone", ["-iterative_zone", "-1"]), ("a new AMG each step", ["-iterative_reuse", "0"]))):
         tag = "iter_set_%d_%d" % (k, nr)
         s = solve(tag, h2 + extra, ranks=nr)
         v = sorted_fields(workdir(tag) + "/sol.h5")[0]

@@ -29,17 +29,21 @@ H = "-iterative_pc_hypre_boomeramg_"
 CONFIGS = {
     "default": [],
     "complete": ["-iterative_inexact", "0", "-iterative_zone", "-1", "-iterative_reuse", "0"],  # each step to 1e-12, a new AMG each step
+    # the path before issue 25: complete steps, a new AMG each, BoomerAMG without aggressive coarsening, symmetric Gauss-Seidel
+    "before": ["-iterative_inexact", "0", "-iterative_zone", "-1", "-iterative_reuse", "0", H + "agg_nl", "0",
+               H + "relax_type_down", "symmetric-SOR/Jacobi", H + "relax_type_up", "symmetric-SOR/Jacobi"],
     "inexact": ["-iterative_zone", "-1", "-iterative_reuse", "0"],
     "no-zone": ["-iterative_zone", "-1"],
     "zone1": ["-iterative_zone", "1"],
-    "zone4": ["-iterative_zone", "4"],
+    "zone2": ["-iterative_zone", "2"],
+    "zone8": ["-iterative_zone", "8"],
     "reuse1.5": ["-iterative_reuse", "1.5"],
     "reuse4": ["-iterative_reuse", "4"],
     "new-amg": ["-iterative_reuse", "0"],
     "inexact0.01": ["-iterative_inexact", "0.01"],
+    "inexact0.3": ["-iterative_inexact", "0.3"],
     "sgs": [H + "relax_type_down", "symmetric-SOR/Jacobi", H + "relax_type_up", "symmetric-SOR/Jacobi"],
     "agg0": [H + "agg_nl", "0"],
-    "before": [H + "agg_nl", "0", H + "relax_type_down", "symmetric-SOR/Jacobi", H + "relax_type_up", "symmetric-SOR/Jacobi"],  # the hypre settings before issue 25
     "gs": [H + "relax_type_down", "SOR/Jacobi", H + "relax_type_up", "backward-SOR/Jacobi"],
     "agg1": [H + "agg_nl", "1"],
     "pmis": [H + "coarsen_type", "PMIS"],

@@ -308,9 +308,9 @@ static PetscErrorCode ZoneApply(PC pc, Vec b, Vec x)
 PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
 {
   PetscFunctionBeginUser;
-  opt->inexact = 1e-2;
+  opt->inexact = 0.1;
   opt->reuse   = 2;
-  opt->zone    = 2;
+  opt->zone    = 4;
   PetscOptionsBegin(comm, NULL, "Iterative path (-kkt_path iterative): active-set steps", "");
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_reuse", "keep the AMG while steps converge at most this much slower (0: new each step)", opt->reuse, &opt->reuse, NULL));
