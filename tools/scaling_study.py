@@ -136,18 +136,18 @@ def model(rows, floor, cores, paths):
             Rp = [r for r in R if r["ranks"] > 1]
             A = np.array([[1.0, math.log(r["ranks"]), math.log(r["dofs"])] for r in Rp])
             k, al, be = np.linalg.lstsq(A, np.array([math.log(r["interface_unknowns"]) for r in Rp]), rcond=None)[0]
-            I = lambda N, P: math.exp(k) * P ** al * N ** be  # noqa: E731
+            I = lambda N, P, k=k, al=al, be=be: math.exp(k) * P ** al * N ** be  # noqa: E731
             cw, bw = fit(xs, [math.log(r["mumps_flops_max_rank"]) for r in R])
             one = [r for r in R if r["ranks"] == 1]
             rate = max(r["mumps_flops_max_rank"] / r["solve_s"] for r in one)
             text += " + 8 I^2 bytes, I = %.3g P^%.2f N^%.2f; MUMPS flops/rank %.3g (N/P)^%.2f, at %.2g flop/s (1 rank)" % (math.exp(k), al, be, math.exp(cw), bw, rate)
-            secs = lambda N, P: (math.exp(cw) * (N / P) ** bw + I(N, P) ** 3 / 3.0) / rate  # noqa: E731
+            secs = lambda N, P, cw=cw, bw=bw, rate=rate, I=I: (math.exp(cw) * (N / P) ** bw + I(N, P) ** 3 / 3.0) / rate  # noqa: E731
             fits[path] = secs
         else:
             Rt = [r for r in R if r["ranks"] <= cores]
             ct, bt = fit([math.log(r["dofs"] / r["ranks"]) for r in Rt], [math.log(r["solve_s"]) for r in Rt])
             text += "; solve seconds/rank %.3g (N/P)^%.2f (runs on <= %d ranks)" % (math.exp(ct), bt, cores)
-            secs = lambda N, P: math.exp(ct) * (N / P) ** bt  # noqa: E731
+            secs = lambda N, P, ct=ct, bt=bt: math.exp(ct) * (N / P) ** bt  # noqa: E731
             fits[path] = secs
         print(text)
         for N, P in ((1e8, 64), (1e8, 256)):
