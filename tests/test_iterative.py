@@ -12,7 +12,14 @@ eliminated row by row and CG + GAMG in u.
     -ksp_type cg -pc_type gamg on the block and on S2 tied through fieldsplit;
  4. the summary's ksp_iterations_max and memory_max_rank_mb on every path;
  5. what it cannot do is one line: standard multipliers, -kkt_augment,
-    vinewtonrsls."""
+    vinewtonrsls;
+ 6. the steps' settings (docs/scaling.md): with each of inexact steps, the
+    contact zone and the kept AMG switched off in turn the answer is the same
+    (steps, set, fields to 1e-8); the defaults take fewer Krylov iterations
+    and fewer AMG set-ups than complete steps with a new AMG each (Hertz
+    level 2, 1 and 2 ranks);
+ 7. a bad value of -iterative_inexact, -iterative_reuse, -iterative_zone is
+    one line naming the option (1 and 2 ranks)."""
 import numpy as np
 from m2d import check, mesh, opts, run, solve, sorted_fields, workdir
 
@@ -69,3 +76,29 @@ for what, args, name in bad:
     rc, out, err = run(args + ["-kkt_path", "iterative", "-output_dir", workdir("iter_bad")], check=False)
     lines = [ln for ln in err.splitlines() if ln.strip()]
     check(rc == 1 and len(lines) == 1 and name in lines[0], "%s: one line naming %s: %s" % (what, name, lines[-1] if lines else "(none)"))
+
+# ---------------------------------------------------------------- 6. the steps' settings
+h2 = ["-options_file", opts("hertz"), "-mesh", mesh("hertz_2"), "-kkt_path", "iterative", "-output_name", "sol", "-output_vtu", "0", "-contact_monitor", "0"]
+complete = ["-iterative_inexact", "0", "-iterative_zone", "-1", "-iterative_reuse", "0"]
+for nr in (1, 2):
+    ref = solve("iter_set_default_%d" % nr, h2, ranks=nr)
+    vr = sorted_fields(workdir("iter_set_default_%d" % nr) + "/sol.h5")[0]
+    for k, (what, extra) in enumerate((("complete steps, a new AMG each", complete), ("no inexact steps", ["-iterative_inexact", "0"]),
+                        ("no zone", ["-iterative_zone", "-1"]), ("a new AMG each step", ["-iterative_reuse", "0"]))):
+        tag = "iter_set_%d_%d" % (k, nr)
+        s = solve(tag, h2 + extra, ranks=nr)
+        v = sorted_fields(workdir(tag) + "/sol.h5")[0]
+        du = np.abs(v["displacement"] - vr["displacement"]).max() / np.abs(vr["displacement"]).max()
+        dp = np.abs(v["contact_pressure"] - vr["contact_pressure"]).max() / np.abs(vr["contact_pressure"]).max()
+        check(s["iterations"] == ref["iterations"] and s["active_nodes"] == ref["active_nodes"] and du < 1e-8 and dp < 1e-8,
+              "Hertz 2, %d rank(s), %s: %d steps, %d active, displacement %.1e, pressure %.1e of the defaults'" % (nr, what, s["iterations"], s["active_nodes"], du, dp))
+        if extra is complete:
+            check(ref["ksp_iterations_total"] < s["ksp_iterations_total"] and ref["pc_setups"] < s["pc_setups"],
+                  "Hertz 2, %d rank(s): the defaults take %d Krylov iterations and %d AMG set-ups, complete steps %d and %d" % (nr, ref["ksp_iterations_total"], ref["pc_setups"], s["ksp_iterations_total"], s["pc_setups"]))
+
+# ---------------------------------------------------------------- 7. bad values: one line
+for opt, val in (("-iterative_inexact", "1.5"), ("-iterative_inexact", "-1e-3"), ("-iterative_inexact", "abc"), ("-iterative_reuse", "0.5"), ("-iterative_zone", "-2")):
+    for nr in (1, 2):
+        rc, out, err = run(["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_path", "iterative", opt, val, "-output_dir", workdir("iter_bad")], ranks=nr, check=False)
+        lines = [ln for ln in err.splitlines() if ln.strip()]
+        check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: ") and opt in lines[0], "%s %s, %d rank(s): one line naming it: %s" % (opt, val, nr, lines[-1] if lines else "(none)"))

@@ -120,7 +120,7 @@ def model(rows, floor, cores, paths):
     communication of 64 ranks is not in the data)."""
     import numpy as np
     print("\nModel (least squares over the runs with more than 1e5 dofs; an ESTIMATE, extrapolated far beyond the data):")
-    out = {}
+    out, fits = {}, {}
     for path in paths:
         R = [r for r in rows if r["path"] == path and r["dofs"] > 1e5]
         if len(R) < 3:
@@ -136,21 +136,25 @@ def model(rows, floor, cores, paths):
             Rp = [r for r in R if r["ranks"] > 1]
             A = np.array([[1.0, math.log(r["ranks"]), math.log(r["dofs"])] for r in Rp])
             k, al, be = np.linalg.lstsq(A, np.array([math.log(r["interface_unknowns"]) for r in Rp]), rcond=None)[0]
-            I = lambda N, P: math.exp(k) * P ** al * N ** be  # noqa: E731
+            I = lambda N, P, k=k, al=al, be=be: math.exp(k) * P ** al * N ** be  # noqa: E731
             cw, bw = fit(xs, [math.log(r["mumps_flops_max_rank"]) for r in R])
             one = [r for r in R if r["ranks"] == 1]
             rate = max(r["mumps_flops_max_rank"] / r["solve_s"] for r in one)
             text += " + 8 I^2 bytes, I = %.3g P^%.2f N^%.2f; MUMPS flops/rank %.3g (N/P)^%.2f, at %.2g flop/s (1 rank)" % (math.exp(k), al, be, math.exp(cw), bw, rate)
-            secs = lambda N, P: (math.exp(cw) * (N / P) ** bw + I(N, P) ** 3 / 3.0) / rate  # noqa: E731
+            secs = lambda N, P, cw=cw, bw=bw, rate=rate, I=I: (math.exp(cw) * (N / P) ** bw + I(N, P) ** 3 / 3.0) / rate  # noqa: E731
+            fits[path] = secs
         else:
             Rt = [r for r in R if r["ranks"] <= cores]
             ct, bt = fit([math.log(r["dofs"] / r["ranks"]) for r in Rt], [math.log(r["solve_s"]) for r in Rt])
             text += "; solve seconds/rank %.3g (N/P)^%.2f (runs on <= %d ranks)" % (math.exp(ct), bt, cores)
-            secs = lambda N, P: math.exp(ct) * (N / P) ** bt  # noqa: E731
+            secs = lambda N, P, ct=ct, bt=bt: math.exp(ct) * (N / P) ** bt  # noqa: E731
+            fits[path] = secs
         print(text)
         for N, P in ((1e8, 64), (1e8, 256)):
             mem = math.exp(cm) * (N / P) ** bm + 8.0 * I(N, P) ** 2 / 2 ** 20
             out[(path, P)] = (mem / 1024, secs(N, P), I(N, P))
+    if "condensed" in fits and "iterative" in fits:
+        crossover(fits)
     print("\n| ESTIMATE, 1e8 dofs | memory per rank, 64 ranks | solve time, 64 ranks | memory per rank, 256 ranks | solve time, 256 ranks |")
     print("|---|---|---|---|---|")
     for path in paths:
@@ -161,6 +165,20 @@ def model(rows, floor, cores, paths):
             mem, t, i = out[(path, P)]
             cells += ["%.3g GB%s" % (mem, " (dense interface %.2g unknowns)" % i if i else ""), "%.2g s" % t]
         print("| %s | %s |" % (path, " | ".join(cells)))
+
+
+def crossover(fits):
+    """where the fitted solve times cross: per dofs N, the estimate of both
+    paths on P ranks and the fewest ranks (powers of 2 up to 1024) on which
+    the iterative path's is below the condensed path's (an ESTIMATE)"""
+    Ps = [2 ** k for k in range(11)]
+    print("\nCrossover (ESTIMATE from the fits above): solve seconds per path, condensed / iterative, and the fewest ranks where the iterative path is faster")
+    print("| dofs | " + " | ".join("%d ranks" % P for P in (1, 2, 8, 64, 256)) + " | iterative faster from |")
+    print("|---|" + "---|" * 6)
+    for N in (1e5, 1e6, 1e7, 1e8):
+        cells = ["%.3g / %.3g" % (fits["condensed"](N, P), fits["iterative"](N, P)) for P in (1, 2, 8, 64, 256)]
+        first = next((P for P in Ps if fits["iterative"](N, P) < fits["condensed"](N, P)), None)
+        print("| %.0e | %s | %s |" % (N, " | ".join(cells), "%d ranks" % first if first else "beyond 1024 ranks"))
 
 
 def main():

@@ -122,6 +122,10 @@ static PetscErrorCode ContextDestroy(M2dActiveSet *as)
   PetscCall(VecDestroy(&as->tol));
   PetscCall(VecDestroy(&as->used));
   PetscCall(VecDestroy(&as->cu));
+  PetscCall(VecDestroy(&as->du));
+  PetscCall(VecDestroy(&as->cdu));
+  PetscCall(VecDestroy(&as->m[0]));
+  PetscCall(VecDestroy(&as->m[1]));
   PetscCall(VecDestroy(&as->all));
   PetscCall(VecScatterDestroy(&as->toall));
   PetscCall(CondensedDestroy(&as->cond));
@@ -307,7 +311,7 @@ static PetscErrorCode Report(M2dActiveSet *as, M2dActiveSetInfo *info)
     info->ksp_its_max   = ii.its_max;
     info->ksp_its_total = ii.its_total;
     info->pc_setups     = ii.setups;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->lam), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups\n", ii.solves, ii.its_total, ii.its_max, ii.setups));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->lam), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups, contact zone of %" PetscInt_FMT " unknowns\n", ii.solves, ii.its_total, ii.its_max, ii.setups, ii.zone_dofs));
   }
   PetscFunctionReturn(0);
 }

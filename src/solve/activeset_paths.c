@@ -107,6 +107,85 @@ static PetscErrorCode StepPCSetUp(PC pc)
   PetscFunctionReturn(0);
 }
 
+/* m = the complementarity test at the step's next iterate z - y (lambda/c + g
+ * + tie tolerance: the node is active where m >= 0, ActiveSetUpdateMask),
+ * from lambda and g = C u - r at z (as->lam, as->gm) */
+static PetscErrorCode NextTest(M2dActiveSet *as, Vec y, Vec m)
+{
+  M2dKKT *kkt = as->kkt;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecISCopy(y, kkt->isu, SCATTER_REVERSE, as->du));
+  PetscCall(VecISCopy(y, kkt->isl, SCATTER_REVERSE, m));
+  PetscCall(MatMult(kkt->C, as->du, as->cdu));
+  PetscCall(VecAXPBY(m, 1.0 / as->c, -1.0 / as->c, as->lam)); /* (lambda - dl) / c */
+  PetscCall(VecAXPY(m, 1.0, as->gm));
+  PetscCall(VecAXPY(m, -1.0, as->cdu));
+  PetscCall(VecAXPY(m, 1.0, as->tol));
+  PetscFunctionReturn(0);
+}
+
+/* From the tests m1 and m2 of two solves of one step, the second with a
+ * residual M2D_REFINE times the first's: *sure when every node's test m2 is
+ * farther from 0 than M2D_SURE times it moved from m1 (CG's error in m2 is
+ * about M2D_REFINE / (1 - M2D_REFINE) of that move, ~1/9: a margin of 18
+ * times it cannot flip the node), *same when the set m2 gives is the step's
+ * own (the set has settled). Collective. */
+#define M2D_REFINE 0.1 /* each refinement of a step: this much smaller a residual */
+#define M2D_SURE   2.0
+static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure, PetscBool *same)
+{
+  const PetscScalar *a, *b, *used;
+  PetscInt           n, flags[2] = {1, 1};
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(m1, &n));
+  PetscCall(VecGetArrayRead(m1, &a));
+  PetscCall(VecGetArrayRead(m2, &b));
+  PetscCall(VecGetArrayRead(as->used, &used));
+  for (PetscInt j = 0; j < n; j++) {
+    PetscReal x = PetscRealPart(b[j]);
+    if (!(PetscAbsReal(x) > M2D_SURE * PetscAbsReal(x - PetscRealPart(a[j])))) flags[0] = 0;
+    if ((x >= 0) != (PetscRealPart(used[j]) != 0)) flags[1] = 0;
+  }
+  PetscCall(VecRestoreArrayRead(as->used, &used));
+  PetscCall(VecRestoreArrayRead(m2, &b));
+  PetscCall(VecRestoreArrayRead(m1, &a));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPIU_INT, MPI_MIN, PetscObjectComm((PetscObject)m1)));
+  *sure = (PetscBool)flags[0];
+  *same = (PetscBool)flags[1];
+  PetscFunctionReturn(0);
+}
+
+/* Iterative path: one step, inexact while its set is not the last one. CG
+ * stops at -iterative_inexact of the step's right-hand side, then goes on by
+ * factors of M2D_REFINE; once the next set is sure (NextSet: the set an
+ * exact solve gives), a step whose next set is another stops there, and a
+ * step whose set has settled (the last one) is completed to
+ * -iterative_ksp_rtol: the answer is the complete solve's. A set never sure
+ * (a node on the boundary to round-off) ends complete too. */
+static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
+{
+  M2dIterativeInfo ii;
+  PetscReal        tol;
+  PetscBool        sure = PETSC_FALSE, same = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dIterativeGetInfo(as->iter, &ii));
+  tol = PetscMax(ii.inexact, ii.rtol);
+  PetscCall(M2dIterativeSolve(as->iter, b, tol, y));
+  if (tol <= ii.rtol) PetscFunctionReturn(0);
+  PetscCall(NextTest(as, y, as->m[0]));
+  for (PetscInt k = 1; !sure && tol > ii.rtol; k = 1 - k) {
+    tol = PetscMax(M2D_REFINE * tol, ii.rtol);
+    PetscCall(M2dIterativeRefine(as->iter, tol, y));
+    PetscCall(NextTest(as, y, as->m[k]));
+    PetscCall(NextSet(as, as->m[1 - k], as->m[k], &sure, &same));
+  }
+  if (same && tol > ii.rtol) PetscCall(M2dIterativeRefine(as->iter, 0, y));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode StepPCApply(PC pc, Vec b, Vec y)
 {
   M2dActiveSet *as;
@@ -114,7 +193,7 @@ static PetscErrorCode StepPCApply(PC pc, Vec b, Vec y)
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &as));
   if (as->cond) PetscCall(CondensedJacobianSolve(as->cond, b, y));
-  else PetscCall(M2dIterativeSolve(as->iter, b, y));
+  else PetscCall(IterativeStep(as, b, y));
   PetscFunctionReturn(0);
 }
 
@@ -159,6 +238,10 @@ PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as)
 {
   PetscFunctionBeginUser;
   PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
+  PetscCall(VecDuplicate(as->u, &as->du));
+  PetscCall(VecDuplicate(as->lam, &as->cdu));
+  PetscCall(VecDuplicate(as->lam, &as->m[0]));
+  PetscCall(VecDuplicate(as->lam, &as->m[1]));
   PetscCall(SetStepPC(snes, as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }

@@ -37,6 +37,7 @@ typedef struct {
   M2dSetHistory hist;
   M2dCondensed *cond;    /* condensed path (the SNES unknown is nu, condensed.h), or NULL */
   M2dIterative *iter;    /* iterative path (each step's solve, iterative.h), or NULL */
+  Vec           du, cdu, m[2]; /* iterative path: a step's du, C du and tests of its next set */
   Vec           cu;      /* condensed path: C u(nu) */
   Vec           all;     /* the mask on every rank (the held-bodies check) */
   VecScatter    toall;

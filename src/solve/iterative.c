@@ -3,6 +3,7 @@
 #include "iterative.h"
 #include "elimination.h"
 #include "logging.h"
+#include "options.h"
 #include "util.h"
 #include <petscksp.h>
 #include <string.h>
@@ -21,10 +22,23 @@ struct M2dIterative {
   Vec        bu, q, w, e, v, du; /* u layout */
   Vec        bl, dl, t;          /* multiplier layout */
   PetscReal  c, scale;
-  KSP        ksp;
-  PetscBool *built;     /* the set the preconditioner was built for (every row), or NULL */
-  PetscInt   its_built; /* iterations of the first solve after that build */
-  PetscInt   its_last;  /* iterations of the last solve */
+  KSP        ksp;          /* CG, its PC the zone's and the AMG's (ZoneApply) */
+  PC         amg;          /* the AMG (-iterative_pc_*), kept across steps */
+  IS         zone, halo;   /* the contact zone's dofs and one ring more (all of them on every rank) */
+  Mat       *Z, *G;        /* Ar[zone, zone] and Ar[zone, halo] (every rank), or NULL */
+  KSP        zksp;         /* Z's LU */
+  VecScatter toh, hz;      /* u layout -> the halo -> the zone */
+  Vec        bz, xz, x2z, bh, yh, r;
+  PetscReal  rtol;       /* a complete solve's tolerance (-iterative_ksp_rtol) */
+  M2dIterativeOptions opt;
+  PetscReal  pace_built; /* iterations per decade of the first solve after the set-up */
+  PetscReal  pace_last;  /* ... of the last solve (its refinements included) */
+  PetscInt   built_at;   /* solves before the last set-up */
+  PetscReal  r0;         /* the last solve's right-hand side norm */
+  PetscReal  rlast;      /* its residual norm now */
+  PetscReal  rpace;      /* the residual its pace counts from (r0, or where the AMG was rebuilt) */
+  PetscInt   maxit;      /* -iterative_ksp_max_it */
+  PetscInt   its_step;   /* its iterations, refinements included */
   M2dIterativeInfo info;
 };
 
@@ -112,6 +126,9 @@ static PetscErrorCode DefaultOptions(void)
     {"-iterative_pc_hypre_boomeramg_interp_type", "ext+i"},
     {"-iterative_pc_hypre_boomeramg_P_max", "4"},
     {"-iterative_pc_hypre_boomeramg_strong_threshold", "0.5"},
+    {"-iterative_pc_hypre_boomeramg_agg_nl", "1"},
+    {"-iterative_pc_hypre_boomeramg_relax_type_down", "SOR/Jacobi"},
+    {"-iterative_pc_hypre_boomeramg_relax_type_up", "backward-SOR/Jacobi"},
   };
   static const char *const gamg[][2] = {
     {"-iterative_pc_gamg_threshold", "0.02"},
@@ -153,6 +170,159 @@ PetscErrorCode M2dIterativeCreateKSP(MPI_Comm comm, KSP *ksp)
   PetscFunctionReturn(0);
 }
 
+/* the sorted list z[0..n) (the same on every rank) with K's neighbours of
+ * its unknowns added (one ring) */
+static PetscErrorCode Ring(M2dIterative *it, PetscInt *n, PetscInt **z)
+{
+  PetscInt     lo, hi, *mine = NULL, nm = 0, cap = 0, *all, total;
+  PetscMPIInt  size, *cnt, *off, nmi;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(it->comm, &size));
+  PetscCall(MatGetOwnershipRange(it->K, &lo, &hi));
+  for (PetscInt i = 0; i < *n; i++) {
+    PetscInt        ncols;
+    const PetscInt *cols;
+    if ((*z)[i] < lo || (*z)[i] >= hi) continue;
+    PetscCall(MatGetRow(it->K, (*z)[i], &ncols, &cols, NULL));
+    if (nm + ncols > cap) {
+      PetscInt *t;
+      cap = 2 * (nm + ncols);
+      PetscCall(PetscMalloc1(cap, &t));
+      if (mine) PetscCall(PetscArraycpy(t, mine, nm));
+      PetscCall(PetscFree(mine));
+      mine = t;
+    }
+    PetscCall(PetscArraycpy(mine + nm, cols, ncols));
+    nm += ncols;
+    PetscCall(MatRestoreRow(it->K, (*z)[i], &ncols, &cols, NULL));
+  }
+  PetscCall(PetscSortRemoveDupsInt(&nm, mine));
+  PetscCall(PetscMalloc2(size, &cnt, size + 1, &off));
+  PetscCall(PetscMPIIntCast(nm, &nmi));
+  PetscCallMPI(MPI_Allgather(&nmi, 1, MPI_INT, cnt, 1, MPI_INT, it->comm));
+  off[0] = 0;
+  for (PetscMPIInt r = 0; r < size; r++) off[r + 1] = off[r] + cnt[r];
+  total = off[size] + *n;
+  PetscCall(PetscMalloc1(total + 1, &all));
+  PetscCallMPI(MPI_Allgatherv(mine, nmi, MPIU_INT, all, cnt, off, MPIU_INT, it->comm));
+  PetscCall(PetscArraycpy(all + off[size], *z, *n));
+  PetscCall(PetscSortRemoveDupsInt(&total, all));
+  PetscCall(PetscFree(*z));
+  PetscCall(PetscFree(mine));
+  PetscCall(PetscFree2(cnt, off));
+  *z = all;
+  *n = total;
+  PetscFunctionReturn(0);
+}
+
+/* The contact zone: every unknown of a contact row and `layers` rings of
+ * K's neighbours around them, and its halo (one ring more), the same sorted
+ * lists on every rank. Between two active sets P^T K P + D_S differs only in
+ * the zone (rows and columns of the rows' unknowns and the slaves'
+ * neighbours); the zone's rows couple only to the halo. */
+static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
+{
+  PetscInt n = it->el.rowptr[it->el.nrow], nh, *z, *h, *pos;
+  IS       isz;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n + 1, &z));
+  PetscCall(PetscArraycpy(z, it->el.rowcol, n));
+  PetscCall(PetscSortRemoveDupsInt(&n, z));
+  for (PetscInt l = 0; l < layers; l++) PetscCall(Ring(it, &n, &z));
+  nh = n;
+  PetscCall(PetscMalloc1(n + 1, &h));
+  PetscCall(PetscArraycpy(h, z, n));
+  PetscCall(Ring(it, &nh, &h));
+  PetscCall(PetscMalloc1(n + 1, &pos)); /* the zone's places in the halo */
+  for (PetscInt i = 0; i < n; i++) PetscCall(PetscFindInt(z[i], nh, h, &pos[i]));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->zone));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, nh, h, PETSC_OWN_POINTER, &it->halo));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &it->bz));
+  PetscCall(VecDuplicate(it->bz, &it->xz));
+  PetscCall(VecDuplicate(it->bz, &it->x2z));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, nh, &it->bh));
+  PetscCall(VecDuplicate(it->bh, &it->yh));
+  PetscCall(VecScatterCreate(it->bu, it->halo, it->bh, NULL, &it->toh));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, pos, PETSC_OWN_POINTER, &isz));
+  PetscCall(VecScatterCreate(it->bh, isz, it->bz, NULL, &it->hz)); /* halo -> zone (sequential) */
+  PetscCall(ISDestroy(&isz));
+  PetscCall(KSPCreate(PETSC_COMM_SELF, &it->zksp));
+  PetscCall(KSPSetType(it->zksp, KSPPREONLY));
+  {
+    PC pc;
+    PetscCall(KSPGetPC(it->zksp, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGND));
+  }
+  it->info.zone_dofs = n;
+  PetscFunctionReturn(0);
+}
+
+/* The preconditioner, x = B b: the zone's exact solve, the AMG on what is
+ * left, the zone again (symmetric multiplicative Schwarz, so CG's
+ * preconditioner stays symmetric). The zone takes what changes from step
+ * to step, so the AMG of an earlier step still serves. Everything but the
+ * AMG is on the zone and its halo, held by every rank: with Z = Ar[zone,
+ * zone] and G = Ar[zone, halo],
+ *   x1 = Z^-1 b_z;  r = b - G^T x1 (on the halo);  y = AMG r;
+ *   x2 = Z^-1 (b_z - G (x1 + y)_halo);  x = y + x1 + x2 (on the zone). */
+static PetscErrorCode ZoneApply(PC pc, Vec b, Vec x)
+{
+  M2dIterative *it;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &it));
+  PetscCall(VecScatterBegin(it->toh, b, it->bh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->toh, b, it->bh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(it->hz, it->bh, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->hz, it->bh, it->bz, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(KSPSolve(it->zksp, it->bz, it->xz));          /* x1 */
+  PetscCall(MatMultTranspose(it->G[0], it->xz, it->yh));  /* r_h = b_h - G^T x1 */
+  PetscCall(VecAYPX(it->yh, -1.0, it->bh));
+  PetscCall(VecCopy(b, it->r));
+  PetscCall(VecScatterBegin(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(PCApply(it->amg, it->r, x));                  /* y */
+  PetscCall(VecScatterBegin(it->toh, x, it->yh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->toh, x, it->yh, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(it->hz, it->xz, it->yh, ADD_VALUES, SCATTER_REVERSE)); /* (x1 + y)_h */
+  PetscCall(VecScatterEnd(it->hz, it->xz, it->yh, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(MatMult(it->G[0], it->yh, it->bz));           /* b_z - G (x1 + y)_h */
+  PetscCall(VecScatterBegin(it->hz, it->bh, it->x2z, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(it->hz, it->bh, it->x2z, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecAYPX(it->bz, -1.0, it->x2z));
+  PetscCall(KSPSolve(it->zksp, it->bz, it->x2z));         /* x2 */
+  PetscCall(VecAXPY(it->xz, 1.0, it->x2z));               /* x = y + x1 + x2 on the zone */
+  PetscCall(VecZeroEntries(it->yh));
+  PetscCall(VecScatterBegin(it->hz, it->xz, it->yh, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->hz, it->xz, it->yh, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecZeroEntries(it->r));
+  PetscCall(VecScatterBegin(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(it->toh, it->yh, it->r, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecAXPY(x, 1.0, it->r));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
+{
+  PetscFunctionBeginUser;
+  opt->inexact = 0.1;
+  opt->reuse   = 2;
+  opt->zone    = 4;
+  PetscOptionsBegin(comm, NULL, "Iterative path (-kkt_path iterative): active-set steps", "");
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_reuse", "keep the AMG while steps converge at most this much slower (0: new each step)", opt->reuse, &opt->reuse, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_zone", "rings of neighbours around the contact dofs solved exactly each step (-1: none)", opt->zone, &opt->zone, NULL));
+  PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
+  PetscCheck(opt->inexact >= 0 && opt->inexact < 1, comm, PETSC_ERR_USER_INPUT, "option -iterative_inexact: %g must be in [0, 1)", (double)opt->inexact);
+  PetscCheck(opt->reuse == 0 || opt->reuse >= 1, comm, PETSC_ERR_USER_INPUT, "option -iterative_reuse: %g must be 0 (a new AMG every step) or >= 1", (double)opt->reuse);
+  PetscCheck(opt->zone >= -1, comm, PETSC_ERR_USER_INPUT, "option -iterative_zone: %" PetscInt_FMT " must be >= 0 (rings; -1: no zone)", opt->zone);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, PetscInt ndir, const PetscInt drows[], M2dIterative **itp)
 {
   M2dIterative *it;
@@ -185,36 +355,61 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   PetscCall(VecDuplicate(kkt->r, &it->mask));
   PetscCall(VecScatterCreateToAll(it->mask, &it->toall, &it->all));
   PetscCall(M2dIterativeCreateKSP(it->comm, &it->ksp));
+  PetscCall(KSPGetTolerances(it->ksp, &it->rtol, NULL, NULL, &it->maxit));
+  PetscCall(M2dIterativeReadOptions(it->comm, &it->opt));
+  if (it->opt.zone >= 0) { /* the KSP's PC (the AMG) goes behind the zone's (ZoneApply) */
+    PC shell;
+    PetscCall(KSPGetPC(it->ksp, &it->amg));
+    PetscCall(PetscObjectReference((PetscObject)it->amg));
+    PetscCall(PCCreate(it->comm, &shell));
+    PetscCall(PCSetType(shell, PCSHELL));
+    PetscCall(PCShellSetContext(shell, it));
+    PetscCall(PCShellSetApply(shell, ZoneApply));
+    PetscCall(PCShellSetName(shell, "the contact zone's LU, the AMG, the zone's LU (symmetric multiplicative)"));
+    PetscCall(KSPSetPC(it->ksp, shell));
+    PetscCall(PCDestroy(&shell));
+    PetscCall(ZoneCreate(it, it->opt.zone));
+    PetscCall(VecDuplicate(it->bu, &it->r));
+  }
   it->info.slave_dofs = it->el.nrow;
+  it->info.rtol       = it->rtol;
+  it->info.inexact    = it->opt.inexact;
   PetscFunctionReturn(0);
 }
 
-/* Keep the preconditioner of an earlier step while the set differs from the
- * one it was built for in at most M2D_REUSE_ROWS of its rows and the last
- * solve took at most M2D_REUSE_ITS times the iterations of the first one after
- * the build (the operator then differs in a few rows: CG absorbs it in a few
- * iterations, for no set-up at all; the step that confirms a settled set
- * always reuses); otherwise build it anew. */
-#define M2D_REUSE_ROWS 0.01 /* of the rows active in either set */
-#define M2D_REUSE_ITS  1.1
-static PetscErrorCode ReusePreconditioner(M2dIterative *it, const PetscScalar on[])
+/* the AMG's reuse flag: on its own PC with the zone, else on the KSP's */
+static PetscErrorCode SetReuse(M2dIterative *it, PetscBool reuse)
 {
-  PetscInt  changed = 0, active = 0;
+  PetscFunctionBeginUser;
+  if (it->amg) PetscCall(PCSetReusePreconditioner(it->amg, reuse));
+  else PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode GetReuse(M2dIterative *it, PetscBool *reuse)
+{
+  PetscFunctionBeginUser;
+  if (it->amg) PetscCall(PCGetReusePreconditioner(it->amg, reuse));
+  else PetscCall(KSPGetReusePreconditioner(it->ksp, reuse));
+  PetscFunctionReturn(0);
+}
+
+/* Keep the AMG of an earlier step, built for another set, while the last
+ * step converged at most -iterative_reuse times as slowly (iterations per
+ * decade of the residual) as the first step after the set-up; otherwise
+ * build it anew. The operator differs from the one the AMG was built for
+ * in the contact zone only, which the zone's exact solve takes (ZoneApply);
+ * without the zone each changed row costs CG about an iteration. */
+static PetscErrorCode ReusePreconditioner(M2dIterative *it)
+{
   PetscBool reuse;
 
   PetscFunctionBeginUser;
-  if (!it->built) PetscCall(PetscMalloc1(it->el.nrow + 1, &it->built));
-  else
-    for (PetscInt j = 0; j < it->el.nrow; j++) {
-      PetscBool a = (PetscBool)(PetscRealPart(on[j]) != 0);
-      changed += a != it->built[j];
-      active += a || it->built[j];
-    }
-  reuse = (PetscBool)(it->info.solves > 0 && changed <= M2D_REUSE_ROWS * active && it->its_last <= M2D_REUSE_ITS * it->its_built);
-  PetscCall(KSPSetReusePreconditioner(it->ksp, reuse));
+  if (it->info.setups > 0 && it->info.solves == it->built_at + 1) it->pace_built = it->pace_last;
+  reuse = (PetscBool)(it->info.setups > 0 && it->opt.reuse > 0 && it->pace_last <= it->opt.reuse * it->pace_built);
+  PetscCall(SetReuse(it, reuse));
   if (!reuse) {
-    for (PetscInt j = 0; j < it->el.nrow; j++) it->built[j] = (PetscBool)(PetscRealPart(on[j]) != 0);
-    it->its_built = -1; /* set by the next solve */
+    it->built_at = it->info.solves;
     it->info.setups++;
   }
   PetscFunctionReturn(0);
@@ -257,7 +452,15 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
   PetscCall(MatDiagonalSet(it->Ar, dS, ADD_VALUES));
   PetscCall(VecDestroy(&dS));
   PetscCall(KSPSetOperators(it->ksp, it->Ar, it->Ar));
-  PetscCall(ReusePreconditioner(it, on));
+  PetscCall(ReusePreconditioner(it));
+  if (it->amg) { /* the AMG's set-up unless reused, the zone's LU */
+    PetscCall(PCSetOperators(it->amg, it->Ar, it->Ar));
+    PetscCall(PCSetUp(it->amg));
+    PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->zone, it->Z ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Z));
+    PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->halo, it->G ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->G));
+    PetscCall(KSPSetOperators(it->zksp, it->Z[0], it->Z[0]));
+    PetscCall(KSPSetUp(it->zksp));
+  }
   PetscCall(KSPSetUp(it->ksp)); /* the preconditioner's set-up, unless reused */
   PetscCall(VecRestoreArrayRead(it->all, &on));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SETUP], 0, 0, 0, 0));
@@ -279,11 +482,72 @@ static PetscErrorCode SolveFailed(M2dIterative *it)
   SETERRQ(it->comm, PETSC_ERR_NOT_CONVERGED, "-kkt_path iterative: the Krylov solve of active-set step %" PetscInt_FMT " did not converge (%s after %" PetscInt_FMT " iterations, residual %.3e); try -iterative_pc_type gamg, more -iterative_ksp_max_it, or -kkt_path condensed", it->info.solves, KSPConvergedReasons[reason], its, (double)rnorm);
 }
 
-PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
+/* CG on the u system to rtol of its right-hand side, from v (cont) or from 0.
+ * Under a preconditioner kept from an earlier set CG has -iterative_reuse times the
+ * iterations per decade of the first step after the set-up; past those (a
+ * rise in iterations) the preconditioner is built anew for this set and CG
+ * goes on from where it stopped. */
+static PetscErrorCode Krylov(M2dIterative *it, PetscReal rtol, PetscBool cont)
+{
+  KSPConvergedReason reason;
+  PetscInt           its, budget = it->maxit;
+  PetscReal          rnorm;
+  PetscBool          reused;
+
+  PetscFunctionBeginUser;
+  PetscCall(GetReuse(it, &reused));
+  if (reused) {
+    PetscReal decades = PetscLog10Real((cont ? it->rlast : it->r0) / (rtol * it->r0));
+    budget            = PetscMin(it->maxit, (PetscInt)PetscCeilReal(it->opt.reuse * it->pace_built * PetscMax(decades, 0)) + 1);
+  }
+  PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, budget));
+  PetscCall(KSPSetInitialGuessNonzero(it->ksp, cont));
+  PetscCall(KSPSolve(it->ksp, it->bu, it->v));
+  PetscCall(KSPGetConvergedReason(it->ksp, &reason));
+  PetscCall(KSPGetIterationNumber(it->ksp, &its));
+  it->its_step += its;
+  it->info.its_total += its;
+  if (reason < 0 && reused) {
+    PetscCall(KSPGetResidualNorm(it->ksp, &it->rpace)); /* the step's pace counts from here */
+    PetscCall(SetReuse(it, PETSC_FALSE));
+    if (it->amg) PetscCall(PCSetUp(it->amg));
+    it->built_at = it->info.solves - 1;
+    it->info.setups++;
+    PetscCall(KSPSetTolerances(it->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, it->maxit));
+    PetscCall(KSPSetInitialGuessNonzero(it->ksp, PETSC_TRUE));
+    PetscCall(KSPSolve(it->ksp, it->bu, it->v));
+    PetscCall(KSPGetIterationNumber(it->ksp, &its));
+    it->its_step = its;
+    it->info.its_total += its;
+  }
+  PetscCall(SolveFailed(it));
+  it->info.its_max = PetscMax(it->info.its_max, it->its_step);
+  PetscCall(KSPGetResidualNorm(it->ksp, &rnorm));
+  it->rlast     = rnorm;
+  it->pace_last = rnorm > 0 && rnorm < it->rpace ? it->its_step / PetscLog10Real(it->rpace / rnorm) : 0;
+  PetscFunctionReturn(0);
+}
+
+/* y from v: du = P v + e, dl_A = (q - K du)_s / C_js, dl_I kept in bl */
+static PetscErrorCode Recover(M2dIterative *it, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatMultAdd(it->P, it->v, it->e, it->du)); /* du = P v + e */
+  PetscCall(MatMult(it->K, it->du, it->w));           /* dl_A = (q - K du)_s / C_js */
+  PetscCall(VecAYPX(it->w, -1.0, it->q));
+  PetscCall(MatMultTranspose(it->E, it->w, it->t));
+  PetscCall(VecPointwiseMult(it->t, it->t, it->mask));
+  PetscCall(VecWAXPY(it->dl, 1.0, it->bl, it->t));
+  PetscCall(VecISCopy(y, it->isu, SCATTER_FORWARD, it->du));
+  PetscCall(VecISCopy(y, it->isl, SCATTER_FORWARD, it->dl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, PetscReal rtol, Vec y)
 {
   const PetscScalar *a;
   PetscScalar       *l, *tt;
-  PetscInt           n, its;
+  PetscInt           n;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
@@ -302,30 +566,29 @@ PetscErrorCode M2dIterativeSolve(M2dIterative *it, Vec b, Vec y)
   PetscCall(VecRestoreArrayWrite(it->t, &tt));
   PetscCall(VecRestoreArray(it->bl, &l));
   PetscCall(VecRestoreArrayRead(it->mask, &a));
-  PetscCall(VecCopy(it->bl, it->dl));                   /* dl_I */
-  PetscCall(MatMultTranspose(it->C, it->dl, it->q));    /* q = b_u - C^T dl_I */
+  PetscCall(MatMultTranspose(it->C, it->bl, it->q));    /* q = b_u - C^T dl_I */
   PetscCall(VecAYPX(it->q, -1.0, it->bu));
   PetscCall(MatMult(it->E, it->t, it->e));              /* e_s = t_j / C_js */
   PetscCall(MatMult(it->K, it->e, it->w));              /* rhs = P^T (q - K e) */
   PetscCall(VecAYPX(it->w, -1.0, it->q));
   PetscCall(MatMultTranspose(it->P, it->w, it->bu));
-  PetscCall(KSPSolve(it->ksp, it->bu, it->v));
-  PetscCall(SolveFailed(it));
-  PetscCall(MatMultAdd(it->P, it->v, it->e, it->du)); /* du = P v + e */
-  PetscCall(MatMult(it->K, it->du, it->w));           /* dl_A = (q - K du)_s / C_js */
-  PetscCall(VecAYPX(it->w, -1.0, it->q));
-  PetscCall(MatMultTranspose(it->E, it->w, it->t));
-  PetscCall(VecPointwiseMult(it->t, it->t, it->mask));
-  PetscCall(VecAXPY(it->dl, 1.0, it->t));
-  PetscCall(VecISCopy(y, it->isu, SCATTER_FORWARD, it->du));
-  PetscCall(VecISCopy(y, it->isl, SCATTER_FORWARD, it->dl));
-  PetscCall(KSPGetIterationNumber(it->ksp, &its));
+  PetscCall(VecNorm(it->bu, NORM_2, &it->r0));
+  it->rpace = it->r0;
+  it->its_step = 0;
   it->info.solves++;
-  it->its_last = its;
-  if (it->its_built < 0) it->its_built = its;
+  PetscCall(Krylov(it, rtol > 0 ? rtol : it->rtol, PETSC_FALSE));
+  PetscCall(Recover(it, y));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
-  it->info.its_total += its;
-  it->info.its_max = PetscMax(it->info.its_max, its);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dIterativeRefine(M2dIterative *it, PetscReal rtol, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
+  PetscCall(Krylov(it, rtol > 0 ? rtol : it->rtol, PETSC_TRUE));
+  PetscCall(Recover(it, y));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_ITER_SOLVE], 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -348,7 +611,6 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(ISDestroy(&it->isl));
   PetscCall(M2dEliminationDestroy(&it->el));
   PetscCall(PetscFree(it->own));
-  PetscCall(PetscFree(it->built));
   PetscCall(MatDestroy(&it->P));
   PetscCall(MatDestroy(&it->E));
   PetscCall(MatDestroy(&it->Ar));
@@ -361,11 +623,26 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(VecDestroy(&it->w));
   PetscCall(VecDestroy(&it->e));
   PetscCall(VecDestroy(&it->v));
+
   PetscCall(VecDestroy(&it->du));
   PetscCall(VecDestroy(&it->bl));
   PetscCall(VecDestroy(&it->dl));
   PetscCall(VecDestroy(&it->t));
   PetscCall(KSPDestroy(&it->ksp));
+  PetscCall(PCDestroy(&it->amg));
+  PetscCall(ISDestroy(&it->zone));
+  PetscCall(ISDestroy(&it->halo));
+  if (it->Z) PetscCall(MatDestroySubMatrices(1, &it->Z));
+  if (it->G) PetscCall(MatDestroySubMatrices(1, &it->G));
+  PetscCall(KSPDestroy(&it->zksp));
+  PetscCall(VecScatterDestroy(&it->toh));
+  PetscCall(VecScatterDestroy(&it->hz));
+  PetscCall(VecDestroy(&it->bz));
+  PetscCall(VecDestroy(&it->xz));
+  PetscCall(VecDestroy(&it->x2z));
+  PetscCall(VecDestroy(&it->bh));
+  PetscCall(VecDestroy(&it->yh));
+  PetscCall(VecDestroy(&it->r));
   PetscCall(PetscFree(it));
   *itp = NULL;
   PetscFunctionReturn(0);

@@ -152,7 +152,7 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
     PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&pb->s, sol->path)));
     PetscCall(VecSet(sol->active, 1.0));
     PetscCall(M2dIterativeSetActive(it, sol->active, 1.0, 1.0)); /* rows C_j u = r_j */
-    PetscCall(M2dIterativeSolve(it, pb->kkt.b, pb->kkt.x));
+    PetscCall(M2dIterativeSolve(it, pb->kkt.b, 0, pb->kkt.x));
     PetscCall(VecISCopy(pb->kkt.x, pb->kkt.isu, SCATTER_REVERSE, sol->u));
     PetscCall(VecISCopy(pb->kkt.x, pb->kkt.isl, SCATTER_REVERSE, sol->lam));
     PetscCall(M2dIterativeGetInfo(it, &ii));
@@ -216,6 +216,10 @@ PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s)
   PetscCall(KSPDestroy(&ksp));
   PetscCall(M2dIterativeCreateKSP(comm, &ksp));
   PetscCall(KSPDestroy(&ksp));
+  {
+    M2dIterativeOptions opt;
+    PetscCall(M2dIterativeReadOptions(comm, &opt));
+  }
   PetscFunctionReturn(0);
 }
 
