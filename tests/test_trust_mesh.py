@@ -20,6 +20,7 @@ and leaves the input and the previous results as they were.
     refused; the temporary m2d_remesh_*.geo is gone after SIGINT or SIGTERM
     during the remesh and after an error exit."""
 import hashlib
+import json
 import os
 import shutil
 import signal
@@ -274,14 +275,19 @@ for name, f in (("truncated", trunc), ("bytes flipped in its metadata", flip)):
 # the input and the previous results are left as they were
 prev = path("out_prev")
 shutil.rmtree(prev, ignore_errors=True)
-run(S2 + ["-mesh", good, "-output_dir", prev])
-before = {k: sha(os.path.join(prev, k)) for k in sorted(os.listdir(prev)) if not k.startswith(".")}
+run(S2 + ["-mesh", good, "-output_dir", prev, "-output_name", "sol"])
+# (the summary is the one file a refusal writes: its status says the run failed)
+results = lambda: {k: sha(os.path.join(prev, k)) for k in sorted(os.listdir(prev)) if not k.endswith("_summary.json")}
+before = results()
 bad = path("h5_label index out of range.h5".replace(" ", "_"))
 h_bad = sha(bad)
+status = []
 for args in (S2 + ["-mesh", bad], GEO + ["-geo", inside]):
     rc, _, _ = run(args + ["-output_dir", prev, "-output_name", "sol"], check=False)
-after = {k: sha(os.path.join(prev, k)) for k in sorted(os.listdir(prev)) if not k.startswith(".")}
-T.check(before == after and sha(bad) == h_bad, "refusals leave the previous results (%d files) and the input byte for byte" % len(before))
+    status.append(json.load(open(os.path.join(prev, "sol_summary.json"))).get("status"))
+after = results()
+T.check(len(before) >= 3 and before == after and sha(bad) == h_bad and status == ["error", "error"],
+        "refusals leave the previous results (%d files) and the input byte for byte, the summary says so (%s)" % (len(before), status))
 
 # ---------------------------------------------------------------- issue 21 item 5: -geo inputs, its temporary
 for name, g, culprits in (("/dev/zero", "/dev/zero", ["/dev/zero", "not a regular file", "character device"]),
@@ -322,8 +328,9 @@ for sig in (signal.SIGINT, signal.SIGTERM):
             "%s while gmsh remeshes: exit %s, no m2d_remesh_*.geo left (%s), %s" % (sig.name, proc.returncode, wrappers(), lines))
 shutil.rmtree(TMP, ignore_errors=True)
 os.makedirs(TMP)
-rc, _, err = run(GEO + ["-geo", plain, "-geo_setnumber", "x=1", "-output_dir", path("out_x")], check=False, env={"TMPDIR": TMP})
-typo = geo("block_typo.geo", "Line(9) = {1, 77};")
+withx = geo("block_x.geo", "x = 0.5;")  # (a -geo_setnumber name the .geo never uses is refused before gmsh runs)
+rc, _, err = run(GEO + ["-geo", withx, "-geo_setnumber", "x=1", "-output_dir", path("out_x")], check=False, env={"TMPDIR": TMP})
+typo = geo("block_typo.geo", "x = 0.5; Line(9) = {1, 77};")
 rc2, _, err2 = run(GEO + ["-geo", typo, "-geo_setnumber", "x=1", "-output_dir", path("out_x")], check=False, env={"TMPDIR": TMP})
 T.check(rc == 0 and rc2 == 1 and not wrappers(), "no m2d_remesh_*.geo left after a run with -geo_setnumber (exit %d) and after a gmsh error (exit %d): %s" % (rc, rc2, err2.strip()[:200]))
 T.finish()

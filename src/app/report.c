@@ -314,12 +314,13 @@ static PetscErrorCode NodalFields(const M2dProblem *pb, const PetscReal sv[], Pe
   for (PetscInt c = 0; c < m->cEnd - m->cStart; c++) /* sigma_z's factor, by the body of a cell around the vertex */
     for (int k = 0; k < 4; k++) f[M2D_NODAL_FIELDS * (m->cellverts[4 * c + k] - m->vStart) + 2] = pb->s.plane == M2D_PLANE_STRAIN ? pb->s.body[m->cellbody[c]].nu : 0;
   for (PetscInt v = 0; v < nv; v++) {
-    PetscReal *o = &f[M2D_NODAL_FIELDS * v], sx = sv[3 * v] * S, sy = sv[3 * v + 1] * S, sxy = sv[3 * v + 2] * S, sz = o[2] * (sx + sy);
-    o[0] = sx;
-    o[1] = sy;
-    o[2] = sz;
-    o[3] = sxy;
-    o[4] = PetscSqrtReal(0.5 * ((sx - sy) * (sx - sy) + (sy - sz) * (sy - sz) + (sz - sx) * (sz - sx)) + 3 * sxy * sxy);
+    /* von Mises from the internal units, then scaled (its squares could overflow in the user's) */
+    PetscReal *o = &f[M2D_NODAL_FIELDS * v], sx = sv[3 * v], sy = sv[3 * v + 1], sxy = sv[3 * v + 2], sz = o[2] * (sx + sy);
+    o[0] = sx * S;
+    o[1] = sy * S;
+    o[2] = sz * S;
+    o[3] = sxy * S;
+    o[4] = PetscSqrtReal(0.5 * ((sx - sy) * (sx - sy) + (sy - sz) * (sy - sz) + (sz - sx) * (sz - sx)) + 3 * sxy * sxy) * S;
   }
   *fields = f;
   PetscFunctionReturn(0);
