@@ -330,7 +330,7 @@ counts = {}
 for ranks in (1, 2):
     for sname in ("INT", "KILL", "TERM"):
         sig = SIGS[sname]
-        moments = [(i + rng.random()) / 5 * STEPS * DELAY for i in range(5)]
+        moments = [(i + rng.random()) / 3 * STEPS * DELAY for i in range(3)]
         rng.shuffle(moments)
         for moment in moments:
             prev = state(D)
