@@ -413,3 +413,40 @@ def fuzz_report(results, t0, seed, faildir, groups=()):
                 shown(r["stderr"].rstrip("\n"))[:800] or "(empty)"))
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
+
+
+def fuzz_args(name, seed, count, timeout):
+    """The fuzz tests' command line (--seed, --count, --jobs, --timeout,
+    --keep) and their work folders: (ARGS, W, VAR, OUTROOT, FAILDIR), the
+    folders emptied."""
+    import argparse
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--seed", type=int, default=seed)
+    ap.add_argument("--count", type=int, default=count)
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--keep", action="store_true")
+    ap.add_argument("--timeout", type=float, default=timeout)
+    args = ap.parse_args()
+    w = workdir(name)
+    dirs = [os.path.join(w, d) for d in ("variants", "out", "failures")]
+    for d in dirs:
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+    return (args, w, *dirs)
+
+
+def fuzz_main(args, faildir, groups, generate, run_variant, prepare=None):
+    """Generate the variants (generate(rng, *prepare())), run them args.jobs
+    at a time, report; the test's exit code."""
+    import random
+    import time
+    from concurrent.futures import ThreadPoolExecutor
+    if not os.path.exists(EXE):
+        print("FAIL executable %s does not exist (build first, or set M2D_EXE)" % EXE)
+        print("0 passed, 1 failed")
+        return 1
+    t0 = time.time()
+    variants = generate(random.Random(args.seed), *(prepare() if prepare else ()))
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        results = list(pool.map(lambda a: run_variant(a[0], *a[1]), enumerate(variants)))
+    return fuzz_report(results, t0, args.seed, faildir, groups)

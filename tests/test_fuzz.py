@@ -21,33 +21,14 @@ in WORK/fuzz/failures/ for inspection.
 
 Options: --seed N (default 20240611), --count N (random variants per mesh,
 default 130), --jobs N (default 2), --keep (keep every variant)."""
-import argparse
 import hashlib
 import os
-import random
 import re
-import shutil
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, fuzz_case, fuzz_report, mesh, opts, workdir
+from m2d import fuzz_args, fuzz_case, fuzz_main, mesh, opts
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--seed", type=int, default=20240611)
-ap.add_argument("--count", type=int, default=130)
-ap.add_argument("--jobs", type=int, default=2)
-ap.add_argument("--keep", action="store_true")
-ap.add_argument("--timeout", type=float, default=30)
-ARGS = ap.parse_args()
-
-W = workdir("fuzz")
-VAR = os.path.join(W, "variants")
-OUTROOT = os.path.join(W, "fuzz_out")
-FAILDIR = os.path.join(W, "failures")
-for d in (VAR, OUTROOT, FAILDIR):
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
+ARGS, W, VAR, OUTROOT, FAILDIR = fuzz_args("fuzz", 20240611, 130, 30)
 
 SCENES = {
     "patch_uniform": ["-options_file", opts("patch_uniform")],
@@ -691,16 +672,7 @@ def run_variant(i, scene, kind, desc, data):
 
 
 def main():
-    if not os.path.exists(EXE):
-        print("FAIL executable %s does not exist (build first, or set M2D_EXE)" % EXE)
-        print("0 passed, 1 failed")
-        return 1
-    t0 = time.time()
-    variants = generate(random.Random(ARGS.seed))
-    with ThreadPoolExecutor(max_workers=ARGS.jobs) as pool:
-        results = list(pool.map(lambda a: run_variant(a[0], *a[1]), enumerate(variants)))
-    return fuzz_report(results, t0, ARGS.seed, FAILDIR, SCENES)
-
+    return fuzz_main(ARGS, FAILDIR, SCENES, generate, run_variant)
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -25,30 +25,13 @@ inputs are kept in WORK/fuzz_geo/failures/.
 
 Options: --seed N, --count N (variants per .geo, default 75), --jobs N,
 --timeout S, --keep."""
-import argparse
 import os
-import random
 import re
-import shutil
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
 
-from m2d import EXE, SRC, fuzz_case, fuzz_report, mesh, opts, workdir
+from m2d import SRC, fuzz_args, fuzz_case, fuzz_main, mesh, opts
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--seed", type=int, default=20251125)
-ap.add_argument("--count", type=int, default=75)
-ap.add_argument("--jobs", type=int, default=2)
-ap.add_argument("--keep", action="store_true")
-ap.add_argument("--timeout", type=float, default=60)
-ARGS = ap.parse_args()
-
-W = workdir("fuzz_geo")
-VAR, OUTROOT, FAILDIR = (os.path.join(W, d) for d in ("variants", "out", "failures"))
-for d in (VAR, OUTROOT, FAILDIR):
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
+ARGS, W, VAR, OUTROOT, FAILDIR = fuzz_args("fuzz_geo", 20251125, 75, 60)
 ONE = ["-mesh", "", "-adapt", "-adapt_max_steps", "1", "-contact_monitor", "0"]  # no -mesh: the first mesh from the .geo
 SCENES = {"hertz": ["-options_file", opts("hertz_adapt")],
           "seed_patch": ["-options_file", opts("seed_patch_adapt")],
@@ -238,16 +221,7 @@ def run_variant(i, scene, kind, desc, data):
 
 
 def main():
-    if not os.path.exists(EXE):
-        print("FAIL executable %s does not exist (build first, or set M2D_EXE)" % EXE)
-        print("0 passed, 1 failed")
-        return 1
-    t0 = time.time()
-    variants = generate(random.Random(ARGS.seed))
-    with ThreadPoolExecutor(max_workers=ARGS.jobs) as pool:
-        results = list(pool.map(lambda a: run_variant(a[0], *a[1]), enumerate(variants)))
-    return fuzz_report(results, t0, ARGS.seed, FAILDIR, SCENES)
-
+    return fuzz_main(ARGS, FAILDIR, SCENES, generate, run_variant)
 
 if __name__ == "__main__":
     sys.exit(main())

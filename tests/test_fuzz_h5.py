@@ -26,31 +26,15 @@ fails the test, and the failing files are kept in WORK/fuzz_h5/failures/.
 
 Options: --seed N, --count N (variants per file, default 150), --jobs N,
 --timeout S, --keep."""
-import argparse
 import os
-import random
 import shutil
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
 
 import h5py
 import numpy as np
-from m2d import EXE, fuzz_case, fuzz_report, mesh, opts, run, workdir
+from m2d import fuzz_args, fuzz_case, fuzz_main, mesh, opts, run
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--seed", type=int, default=20251125)
-ap.add_argument("--count", type=int, default=150)
-ap.add_argument("--jobs", type=int, default=2)
-ap.add_argument("--keep", action="store_true")
-ap.add_argument("--timeout", type=float, default=30)
-ARGS = ap.parse_args()
-
-W = workdir("fuzz_h5")
-VAR, OUTROOT, FAILDIR = (os.path.join(W, d) for d in ("variants", "out", "failures"))
-for d in (VAR, OUTROOT, FAILDIR):
-    shutil.rmtree(d, ignore_errors=True)
-    os.makedirs(d)
+ARGS, W, VAR, OUTROOT, FAILDIR = fuzz_args("fuzz_h5", 20251125, 150, 30)
 SCENES = {"patch_uniform": (["-options_file", opts("patch_uniform"), "-contact_monitor", "0"], mesh("patch_uniform"), 1),
           "hertz_0": (["-options_file", opts("hertz"), "-contact_monitor", "0"], mesh("hertz_0"), 2)}
 BIG = [-1, 0, 2 ** 31 - 1, -2 ** 31, 10 ** 9]
@@ -299,24 +283,20 @@ def run_variant(i, scene, kind, desc, M, what):
                      os.path.join(OUTROOT, "%03d" % i), FAILDIR, ARGS.timeout, ranks=ranks, inputs=[p], keep=ARGS.keep)
 
 
-def main():
+def prepare():
+    """The scenes' meshes saved as .h5 (the bases of the variants)."""
     global RESULT
-    if not os.path.exists(EXE):
-        print("FAIL executable %s does not exist (build first, or set M2D_EXE)" % EXE)
-        print("0 passed, 1 failed")
-        return 1
-    t0 = time.time()
     bases = {}
     for scene, (args, msh, ranks) in SCENES.items():
         p = os.path.join(W, scene + ".h5")
         run(args + ["-mesh", msh, "-mesh_save", p, "-output_dir", os.path.join(W, "base_" + scene), "-output_name", "base"], ranks=ranks)
         bases[scene] = H5(p)
     RESULT = os.path.join(W, "base_patch_uniform", "base.h5")
-    variants = generate(random.Random(ARGS.seed), bases)
-    with ThreadPoolExecutor(max_workers=ARGS.jobs) as pool:
-        results = list(pool.map(lambda a: run_variant(a[0], *a[1]), enumerate(variants)))
-    return fuzz_report(results, t0, ARGS.seed, FAILDIR, SCENES)
+    return (bases,)
 
+
+def main():
+    return fuzz_main(ARGS, FAILDIR, SCENES, generate, run_variant, prepare)
 
 if __name__ == "__main__":
     sys.exit(main())
