@@ -21,7 +21,7 @@
 static const char help[] = "mortar2d: 2D frictionless contact of linear elastic bodies (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
                            "-help: the program's options by job, each with its default; -help_petsc: PETSc's own after them.\n"
-                           "Bodies' materials are listed for -bodies A,B (or BODY): mortar2d -help -bodies lower,upper\n\n";
+                           "The materials -NAME_E, -NAME_nu are listed for the bodies of -bodies: mortar2d -help -bodies lower,upper\n\n";
 
 /* -help: document the per-body and solver options too, print them by job
  * (helpprint.h), then stop */
