@@ -1,8 +1,10 @@
 """-help documents the program: every option of ours is listed with a non-empty
-default and a help string that fits on one line.
+default and a help string that fits on one line, the program's options first,
+grouped by job in the README's order; PETSc's own options only with -help_petsc,
+after the program's. Both exit 0 without running.
 
-The program's options are the lines of its own -help sections (the scene's
-"mortar2d: ..." and one "Material of body 'NAME'" per body). A line reads
+The program's options are the lines of its own -help sections ("mortar2d: JOB"
+and one "Material of body 'NAME'" per body). A line reads
   -name <now DEFAULT : formerly DEFAULT>: help ()         (strings, integers, choices)
   -name <DEFAULT : DEFAULT>: help ()                      (reals)
   -name: <DEFAULT : DEFAULT> help ()                      (booleans)
@@ -31,19 +33,38 @@ DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-out
             "-hertz_radius": "1.", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",
             "-mesh": "none, required", "-summary": "OUTPUT_DIR/N_summary.json", "-output": "h5,vtu,csv,summary", "-exact_angle": "0.", "-mortar_basis": "standard"}
 
-rc, out, err = run(["-help", "-bodies", "lower,upper"])
-lines = (out + err).splitlines()
+# the jobs, in the order of the README's Options section
+JOBS = ["mortar2d: scene and mesh", "mortar2d: materials", "Material of body 'lower'", "Material of body 'upper'",
+        "mortar2d: loads and supports", "mortar2d: contact", "mortar2d: solver paths", "mortar2d: solver paths (-kkt_path iterative)",
+        "mortar2d: checks against exact answers", "mortar2d: error estimate", "mortar2d: adaptive meshes", "mortar2d: output",
+        "mortar2d: output (mesh)"]
 
-sections, cur = {}, None
-for line in lines:
-    if (line.startswith("mortar2d: ") or line.startswith("Material of body '")) and line.endswith(":"):
-        cur = line
-        sections[cur] = []
-    elif line.startswith("-----"):
-        cur = None
-    elif cur is not None:
-        sections[cur].append(line)
-check(len(sections) == 3, "-help has the program's section and one per body: %s" % list(sections))
+
+def parse(lines):
+    sections, order, cur = {}, [], None
+    for line in lines:
+        if (line.startswith("mortar2d: ") or line.startswith("Material of body '")) and line.endswith(":"):
+            cur = line
+            sections[cur] = []
+            order.append(cur)
+        elif line.startswith("-----"):
+            cur = None
+        elif cur is not None:
+            sections[cur].append(line)
+    return sections, order
+
+
+rc, out, err = run(["-help", "-bodies", "lower,upper"])
+check(rc == 0, "-help exits 0 (%d)" % rc)
+lines = (out + err).splitlines()
+sections, order = parse(lines)
+titles = [t.split(" (and ")[0].split(" (GROUP")[0].rstrip(":") for t in order]
+check(titles == JOBS, "-help has the program's sections by job, in order: %s" % titles)
+first = next(i for i, l in enumerate(lines) if l.strip().startswith("-mesh "))
+check(first < 20, "the program's options come first (-mesh on line %d)" % (first + 1))
+check(len(lines) < 150, "-help alone is the program's options (%d lines)" % len(lines))
+check(not any(l.strip().startswith("-ksp_type") for l in lines), "-help alone does not list PETSc's -ksp_type")
+check("-help_petsc" in lines[-1], "-help ends by naming -help_petsc: %r" % lines[-1])
 
 LINE = re.compile(r"^  -(?P<name>[A-Za-z0-9_]+):? <(?P<dflt>[^>]*)>:? (?P<rest>.*)$")
 found = {}
@@ -68,5 +89,15 @@ for opt in OURS:
     check(opt in found, "%s is documented by -help" % opt)
 for opt, value in DEFAULTS.items():
     check(found.get(opt) == value, "%s default is %r (-help shows %r)" % (opt, value, found.get(opt)))
-# PETSc's solver options are documented too (the solvers are configured under -help)
-check(any(l.strip().startswith("-ksp_type") for l in lines), "-help lists PETSc's -ksp_type")
+# -help_petsc: the same program sections first, then PETSc's solver options (the
+# solvers configured as for a run) and PETSc's general options
+rc, out, err = run(["-help_petsc", "-bodies", "lower,upper"])
+check(rc == 0, "-help_petsc exits 0 (%d)" % rc)
+plines = (out + err).splitlines()
+psections, porder = parse(plines)
+check(porder == order, "-help_petsc starts with the same sections as -help")
+last_ours = max(i for i, l in enumerate(plines) if l.startswith("  -adapt") or l.startswith("  -summary") or l.startswith("  -mesh_save"))
+ksp = [i for i, l in enumerate(plines) if l.strip().startswith("-ksp_type")]
+check(ksp and min(ksp) > last_ours, "-help_petsc lists PETSc's -ksp_type after the program's options")
+check(any(l.strip().startswith("-log_view") for l in plines[last_ours:]), "-help_petsc lists PETSc's -log_view")
+check(not any(l.strip().startswith("-ksp_type") for l in plines[:last_ours]), "nothing of PETSc's before the program's options")

@@ -99,12 +99,12 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   ao->quads     = M2D_QUADS_SUBDIVIDE;
   ao->grading   = 1.2;
   ao->growth    = 4;
-  PetscOptionsBegin(comm, NULL, "Adaptive meshes", "");
+  PetscOptionsBegin(comm, NULL, "mortar2d: adaptive meshes", "");
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-adapt", "adapt the mesh of the scene's .geo (-geo) to the error estimate", ao->enabled, &ao->enabled));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_target", "stop when the relative error estimate is below this", ao->target, &ao->target, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_steps", "at most this many meshes", ao->max_steps, &ao->max_steps, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_dofs", "stop before a mesh would have more dofs than this", ao->max_dofs, &ao->max_dofs, NULL));
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes are adapted to: energy (the energy-norm error) or contact (the contact pressure: dual-weighted)", goals, 2, &ao->goal));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes aim at: energy (energy-norm error) or contact (contact pressure, dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));

@@ -14,13 +14,17 @@
 #include "optcheck.h"
 #include "optfiles.h"
 #include "adapt.h"
+#include "helpprint.h"
 #include "step.h"
 #include "util.h"
 
-static const char help[] = "mortar2d: 2D frictionless contact of elastic bodies with Q4 elements and the mortar method.\n"
-                           "Scenes are options files in options/; see README.md for every option.\n\n";
+static const char help[] = "mortar2d: 2D frictionless contact of linear elastic bodies (small strain, Q4, mortar or node-to-segment).\n"
+                           "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
+                           "-help: the program's options by job, each with its default; -help_petsc: PETSc's own after them.\n"
+                           "The materials -NAME_E, -NAME_nu are listed for the bodies of -bodies: mortar2d -help -bodies lower,upper\n\n";
 
-/* -help: document the per-body and solver options too, then stop */
+/* -help: document the per-body and solver options too, print them by job
+ * (helpprint.h), then stop */
 static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 {
   M2dSolverPath       path;
@@ -41,6 +45,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
   PetscCall(AdaptReadOptions(comm, s, &ao));
+  PetscCall(M2dHelpPrint(comm, help));
   PetscFunctionReturn(0);
 }
 
@@ -111,8 +116,16 @@ int main(int argc, char **argv)
   if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   SingletonMPIDefaults();
+  (void)M2dHelpArgs(&argc, &argv); /* -help_petsc: -help with PETSc's own options after the program's */
+  (void)M2dHelpCapture(); /* -help: the program's options before PETSc's */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
+  {
+    PetscBool has_help = PETSC_FALSE;
+    ierr = PetscOptionsHasHelp(NULL, &has_help);
+    if (!ierr && !has_help) ierr = M2dHelpRelease();
+    if (ierr) return 1;
+  }
   ierr = M2dInstallErrorHandler();
   if (!ierr) ierr = M2dInstallSignalHandlers();
   if (!ierr) ierr = Run(PETSC_COMM_WORLD);

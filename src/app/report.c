@@ -167,7 +167,7 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o)
   PetscCall(PetscMemzero(o, sizeof(*o)));
   o->enabled = PETSC_TRUE;
   M2dSizeFieldDefaults(&o->size);
-  PetscOptionsBegin(comm, NULL, "Error estimator", "");
+  PetscOptionsBegin(comm, NULL, "mortar2d: error estimate", "");
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-error_estimate", "estimate the error per cell (cell field error_indicator, summary error_estimate)", o->enabled, &o->enabled));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-estimator_recovery", "stress recovery: spr (superconvergent patch) or average (nodal averaging)", recs, 2, &rec));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-estimator_target", "target relative energy-norm error of the size field (-adapt: -adapt_target)", o->size.target_rel, &o->size.target_rel, &o->target_set));

@@ -142,11 +142,9 @@ static PetscErrorCode ParseEdgeLoad(int kind, const char *entry, M2dEdgeLoad *l)
 
 static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
-  const char *const parts[]  = {"metis", "petsc"};  /* order of M2dPartitioner */
-  const char *const planes[] = {"strain", "stress"}; /* order of M2dPlane */
-  const char *const integ[]  = {"full", "sri"};
+  const char *const parts[] = {"metis", "petsc"}; /* order of M2dPartitioner */
   char             *mesh[2], *bodies[M2D_MAX_BODIES];
-  PetscInt          nbodies, k;
+  PetscInt          nbodies;
 
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, sizeof(s->mesh[0]), mesh, &s->nmesh));
@@ -174,6 +172,17 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
     PetscCall(PetscSNPrintf(name, sizeof(name), "-%s_nu", s->body[i].name));
     PetscCall(M2dOptionsKnow(name));
   }
+  PetscFunctionReturn(0);
+}
+
+/* the plane model and the element, for every body */
+static PetscErrorCode ReadModel(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  const char *const planes[] = {"strain", "stress"}; /* order of M2dPlane */
+  const char *const integ[]  = {"full", "sri"};
+  PetscInt          k;
+
+  PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, (PetscEnum *)&s->plane));
   k = s->sri ? 1 : 0;
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced: cures volumetric locking)", integ, 2, &k));
@@ -423,12 +432,26 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscFunctionBeginUser;
   PetscCall(Defaults(s));
   PetscCall(PetscOptionsHasHelp(NULL, &s->help));
-  PetscOptionsBegin(comm, NULL, "mortar2d: 2D frictionless contact of elastic bodies (Q4, mortar)", "");
+  /* one group per job: -help prints them in the README's order (helpprint.h) */
+  PetscOptionsBegin(comm, NULL, "mortar2d: scene and mesh", "");
   PetscCall(ReadMeshAndBodies(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: materials (and -NAME_E, -NAME_nu per body)", "");
+  PetscCall(ReadModel(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: loads and supports (GROUP: a gmsh physical name)", "");
   PetscCall(ReadBoundaryConditions(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: contact", "");
   PetscCall(ReadContact(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: checks against exact answers", "");
   PetscCall(ReadComparisons(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: solver paths", "");
   PetscCall(ReadLinearAlgebra(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: output", "");
   PetscCall(ReadOutput(PetscOptionsObject, s));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));

@@ -1,33 +1,13 @@
 /* msh.c - strict gmsh reader, ASCII 2.2/4.1 and binary 4.1 (see msh.h): the
  * file, its header and the loop over its sections. The sections are read in
- * msh_sections.c, the tokens in msh_token.c (msh_impl.h lists the files). */
+ * msh_sections.c, the tokens in msh_token.c, the MshMesh kept (and freed) in
+ * msh_store.c (msh_impl.h lists the files in the order they call each other). */
 #include "msh_impl.h"
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-
-const char *MshPhysicalName(const MshMesh *m, int dim, int tag)
-{
-  for (int i = 0; i < m->nphys; i++)
-    if (m->phys[i].dim == dim && m->phys[i].tag == tag) return m->phys[i].name;
-  return NULL;
-}
-
-void MshFree(MshMesh *m)
-{
-  free(m->xy);
-  free(m->quad);
-  free(m->quadtag);
-  free(m->quadphys);
-  free(m->line);
-  free(m->linephys);
-  free(m->point);
-  free(m->pointphys);
-  free(m->phys);
-  memset(m, 0, sizeof(*m));
-}
 
 /* the whole file into p->buf (NUL-terminated); 0 or 1 with the message in p->err */
 static int LoadFile(Parser *p)

@@ -2,9 +2,11 @@
  *   msh_token.c     the token layer: text (strtol/strtod) and binary (raw bytes) reads,
  *                   every count checked against the bytes left; the only file where
  *                   text and binary differ
- *   msh_store.c     node-tag lookup, the plane check of z, element tables and storage
+ *   msh_store.c     node-tag lookup, the plane check of z, element tables and storage,
+ *                   MshPhysicalName, MshFree
  *   msh_sections.c  the sections of formats 4.1 and 2.2
- *   msh.c           MshRead (file, header, section loop), MshFree, MshPhysicalName */
+ *   msh.c           MshRead (file, header, section loop)
+ * Each file calls only the files listed above it (no circle). */
 #ifndef M2D_MSH_IMPL_H
 #define M2D_MSH_IMPL_H
 #include "msh.h"

@@ -1,9 +1,32 @@
 /* msh_store.c - what the gmsh reader keeps (see msh_impl.h): the node-tag
  * lookup, the check that every node lies in one plane z = constant, the element
- * type tables and the growable quad/line/point lists of MshMesh. */
+ * type tables and the growable quad/line/point lists of MshMesh, its physical
+ * names and MshFree. */
 #include "msh_impl.h"
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+const char *MshPhysicalName(const MshMesh *m, int dim, int tag)
+{
+  for (int i = 0; i < m->nphys; i++)
+    if (m->phys[i].dim == dim && m->phys[i].tag == tag) return m->phys[i].name;
+  return NULL;
+}
+
+void MshFree(MshMesh *m)
+{
+  free(m->xy);
+  free(m->quad);
+  free(m->quadtag);
+  free(m->quadphys);
+  free(m->line);
+  free(m->linephys);
+  free(m->point);
+  free(m->pointphys);
+  free(m->phys);
+  memset(m, 0, sizeof(*m));
+}
 
 /* ---------- node lookup: a direct table for dense tags, else sorted (tag, index) pairs ---------- */
 static int CmpTag(const void *a, const void *b)

@@ -25,8 +25,8 @@ PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len)
 {
   PetscFunctionBeginUser;
   save[0] = 0;
-  PetscOptionsBegin(comm, NULL, "mortar2d mesh output", NULL);
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5 format; read back with -mesh F.h5)", save, len, NULL));
+  PetscOptionsBegin(comm, NULL, "mortar2d: output (mesh)", NULL);
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5; read back by -mesh F.h5); default: none", save, len, NULL));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   PetscFunctionReturn(0);

@@ -311,7 +311,7 @@ PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
   opt->inexact = 0.1;
   opt->reuse   = 2;
   opt->zone    = 4;
-  PetscOptionsBegin(comm, NULL, "Iterative path (-kkt_path iterative): active-set steps", "");
+  PetscOptionsBegin(comm, NULL, "mortar2d: solver paths (-kkt_path iterative)", "");
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_reuse", "keep the AMG while steps converge at most this much slower (0: new each step)", opt->reuse, &opt->reuse, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_zone", "rings of neighbours around the contact dofs solved exactly each step (-1: none)", opt->zone, &opt->zone, NULL));
