@@ -11,7 +11,7 @@
 static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
 {
   PetscFunctionBeginUser;
-  if (!s->contact_nm[0]) PetscFunctionReturn(0);
+  if (!s->npair) PetscFunctionReturn(0);
   PetscCheck(!(s->method == M2D_CONTACT_MORTAR && s->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)");
   PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
   PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
@@ -64,7 +64,7 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m,
   PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
   vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
   if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(CheckIterative(comm, s, vi));
-  if (!s->contact_nm[0]) *path = M2D_PATH_LINEAR;
+  if (!s->npair) *path = M2D_PATH_LINEAR;
   else if (!s->unilateral) *path = M2D_PATH_TIED;
   else if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) *path = M2D_PATH_ITERATIVE;
   else if (s->kkt_path == M2D_KKT_PATH_FULL) *path = M2D_PATH_FULL;
