@@ -28,7 +28,11 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
   PetscFunctionBeginUser;
   *path = M2D_PATH_CONDENSED;
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
-  if (m && !given) PetscCall(MeshGroupSize(m, s->contact_nm, "-contact_nonmortar", &n)); /* its edges */
+  for (PetscInt k = 0; m && !given && k < s->npair; k++) { /* every pair's non-mortar edges */
+    PetscInt nk;
+    PetscCall(MeshGroupSize(m, s->pair[k].nm, s->contact_nm[0] ? "-contact_nonmortar" : "-contact_pairs", &nk));
+    n += nk;
+  }
   if (n > s->kkt_condensed_max) {
     *path = M2D_PATH_FULL;
     PetscCall(PetscPrintf(comm, "active set: -kkt_path full (%" PetscInt_FMT " non-mortar edges, more than -kkt_condensed_max %" PetscInt_FMT ": the condensed path's dense interface would cost O(N^3) a step)\n", n, s->kkt_condensed_max));
