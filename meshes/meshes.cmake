@@ -35,6 +35,10 @@ m2d_mesh(stack_split stack.geo split 1)
 foreach(b 1 2 3)
   m2d_mesh(stack_${b} stack.geo body ${b})
 endforeach()
+# roller: a cylinder between two plates, two Hertz contacts
+foreach(l 0 1 2)
+  m2d_mesh(roller_${l} roller.geo level ${l})
+endforeach()
 # S1: the seed report's patch test
 m2d_mesh(seed_patch seed_patch.geo)
 
