@@ -149,7 +149,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscInt          nbodies, k;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated, each with its bodies (at most 8); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (at most 8); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -236,13 +236,13 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   char    *list[M2D_MAX_PAIRS];
   PetscInt n = 0;
 
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "contact pairs NM1:M1,NM2:M2,... (non-mortar curve:mortar curve), each optionally :standard, :dual (mortar with that basis) or :nts, else -contact_method and -mortar_basis; default: none", M2D_MAX_PAIRS, 0, list, &n));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts],... non-mortar:mortar curve[:own method]; default: none", M2D_MAX_PAIRS, 0, list, &n));
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(ParsePair(list[i], i, s));
     PetscCall(PetscFree(list[i]));
   }
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "physical curve of the non-mortar contact surface (one pair; several: -contact_pairs); default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "physical curve of the mortar contact surface (one pair; several: -contact_pairs); default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "non-mortar curve of one pair (several: -contact_pairs); default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "mortar curve of one pair (several: -contact_pairs); default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-contact_method", "contact discretisation: mortar or nts (node-to-segment)", methods, 2, (PetscEnum *)&s->method));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-mortar_basis", "multipliers: standard (the seed report) or dual (biorthogonal: diagonal D)", basis, 2, (PetscEnum *)&s->basis));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_unilateral", "unilateral contact (active set); false: every candidate node held closed (tied)", s->unilateral, &s->unilateral));
@@ -263,7 +263,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_angle", "-exact uniform: its frame turned by this angle, in degrees", s->exact_angle, &s->exact_angle, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
-  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (effective R1 R2/(R1 + R2)), > 0, for every pair; or R1,R2 for each pair in turn", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
+  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (R1 R2/(R1 + R2)), > 0; or R1,R2 per pair", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
