@@ -12,7 +12,10 @@ static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
 {
   PetscFunctionBeginUser;
   if (!s->npair) PetscFunctionReturn(0);
-  PetscCheck(!(s->method == M2D_CONTACT_MORTAR && s->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)");
+  for (PetscInt k = 0; k < s->npair; k++) { /* every pair's own method */
+    const M2dPair *p = &s->pair[k];
+    PetscCheck(!(p->method == M2D_CONTACT_MORTAR && p->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)%s%s", p->own_method ? "; " : "", p->own_method ? p->what : "");
+  }
   PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
   PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
   s->kkt_mat = M2D_KKT_NEST; /* the blocks are enough: no monolithic copy */
