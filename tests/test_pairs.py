@@ -79,6 +79,10 @@ at &= abs(c["y"] - 0.4) < 1e-12
 T.check(sorted(c["pair"][at]) == [1, 2], "shared node (3/7, 0.4): one multiplier in each of its two pairs")
 T.check(max(abs(c["pressure"][at] / P - 1)) <= 1e-12 and stress_err(s) <= 1e-12, "shared node: each multiplier is p, the patch test exact")
 
+s, c = stack("shared_iterative", ["-mesh", mesh("stack_split"), "-mortar_basis", "dual", "-kkt_path", "iterative", "-contact_pairs", "mid_bottom_a:base_top,mid_bottom_b:base_top,top_bottom:mid_top"])
+at = (abs(c["x"] - 3 / 7) < 1e-12) & (abs(c["y"] - 0.4) < 1e-12)
+T.check(sorted(c["pair"][at]) == [1, 2] and max(abs(c["pressure"][at] / P - 1)) <= 1e-12 and stress_err(s) <= 1e-12, "shared node on the iterative path (two rows, one node): exact")
+
 # ---------- errors ----------
 cases = [
     (["-contact_pairs", "nothere:base_top"], ["-contact_pairs", "nothere"]),
@@ -89,6 +93,7 @@ cases = [
     (["-contact_pairs", "mid_bottom"], ["-contact_pairs", "mid_bottom"]),
     (["-contact_pairs", "mid_bottom:base_top:quad"], ["-contact_pairs", "quad"]),
     (["-contact_nonmortar", "mid_bottom", "-contact_mortar", "base_top"], ["-contact_pairs", "not both"]),
+    (["-kkt_path", "iterative", "-mortar_basis", "dual", "-contact_pairs", "mid_bottom:base_top:standard,top_bottom:mid_top"], ["-kkt_path iterative", "pair 1", "mid_bottom:base_top"]),
 ]
 for args, culprits in cases:
     for ranks in (1, 2):
