@@ -29,6 +29,16 @@ m2d_mesh(block block.geo n 4)
 m2d_mesh(patch_uniform patch_uniform.geo)
 m2d_mesh(patch_uniform_lower patch_uniform.geo body 1)
 m2d_mesh(patch_uniform_upper patch_uniform.geo body 2)
+# stack: three blocks, two contact pairs (one file, and one file per block)
+m2d_mesh(stack stack.geo)
+m2d_mesh(stack_split stack.geo split 1)
+foreach(b 1 2 3)
+  m2d_mesh(stack_${b} stack.geo body ${b})
+endforeach()
+# roller: a cylinder between two plates, two Hertz contacts
+foreach(l 0 1 2)
+  m2d_mesh(roller_${l} roller.geo level ${l})
+endforeach()
 # S1: the seed report's patch test
 m2d_mesh(seed_patch seed_patch.geo)
 

@@ -5,6 +5,7 @@ the libraries under it):
   S2 patch test      options/patch_uniform.opts
   Hertz level 0      options/hertz.opts -mesh <M2D_MESHES>/hertz_0.msh
   bad input          options/patch_uniform.opts -mesh <missing file>
+  two pairs          options/stack.opts (three mesh files; three pairs on stack_split)
 Each must exit with its usual code (0, 0, 1; the bad input with its one
 "mortar2d: error:" line), and valgrind must report
   - no invalid reads/writes/frees (anywhere),
@@ -62,6 +63,9 @@ CASES = [
     ("Hertz level 0 (hertz_0)", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0")], 0),
     ("Hertz level 0, -kkt_path iterative", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_0"), "-kkt_path", "iterative"], 0),
     ("bad input: missing mesh file", ["-options_file", opts("patch_uniform"), "-mesh", missing], 1),
+    # several contact pairs (issue 24): two interfaces, the shared-node mesh with three pairs
+    ("stack, two pairs, three mesh files", ["-options_file", opts("stack"), "-mesh", ",".join(mesh("stack_%d" % b) for b in (1, 2, 3)), "-dirichlet", "base_bottom:y,base_origin:x,base_left:x,mid_left:x,top_left:x"], 0),
+    ("stack_split, three pairs, one shared node", ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-contact_pairs", "mid_bottom_a:base_top,mid_bottom_b:base_top:dual,top_bottom:mid_top:nts"], 0),
 ]
 # the block with one cell 1e-6 thin: refused while the mesh lists are built (mesh_read.c)
 thin = os.path.join(W, "thin_cell.msh")
@@ -104,6 +108,7 @@ if ARGS.error_paths:
         ("error path: -lower_E -1", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-lower_E", "-1"], 1),
         ("error path: -contact_nonmortar nosuch", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_nonmortar", "nosuch"], 1),
         ("error path: -contact_mortar upper_top", ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_uniform"), "-contact_mortar", "upper_top"], 1),
+        ("error path: a pair on one body", ["-options_file", opts("stack"), "-mesh", mesh("stack"), "-contact_pairs", "mid_bottom:base_top,top_bottom:top_top"], 1),
     ]
 
 # ---------------------------------------------------------------- valgrind log

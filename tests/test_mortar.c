@@ -50,9 +50,9 @@ static void TwoEdge(PetscReal theta, PetscReal tx, PetscReal ty, M2dSurface *nm,
 }
 
 /* segments (reach 0.1) and standard mortar rows of c's surfaces; an
- * M2dContact holds the pair, its segments and rows as the program's does, and
- * ContactDestroy frees them */
-static PetscErrorCode MortarPair(M2dContact *c)
+ * M2dContactPair holds the pair, its segments and rows as the program's does, and
+ * ContactPairDestroy frees them */
+static PetscErrorCode MortarPair(M2dContactPair *c)
 {
   PetscFunctionBeginUser;
   PetscCall(MortarBuildSegments(&c->nm, &c->m, 0.1, &c->seg));
@@ -62,7 +62,7 @@ static PetscErrorCode MortarPair(M2dContact *c)
 
 int main(int argc, char **argv)
 {
-  M2dContact a = {0};
+  M2dContactPair a = {0};
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   TwoEdge(0, 0, 0, &a.nm, &a.m);
@@ -91,7 +91,7 @@ int main(int argc, char **argv)
     }
   }
   { /* translation + rotation: rows rotate with the normal, weights and gaps stay */
-    M2dContact b  = {0};
+    M2dContactPair b  = {0};
     PetscReal  th = 0.7, err = 0;
     TwoEdge(th, 3.3, -1.7, &b.nm, &b.m);
     PetscCall(MortarPair(&b));
@@ -106,16 +106,16 @@ int main(int argc, char **argv)
       }
     }
     CHECK(err < 1e-14, "rows invariant under translation and rotation (%.1e)", (double)err);
-    PetscCall(ContactDestroy(&b));
+    PetscCall(ContactPairDestroy(&b));
   }
-  PetscCall(ContactDestroy(&a));
+  PetscCall(ContactPairDestroy(&a));
 
   { /* coincident nodes and the end of the mortar surface: non-mortar edges
      * (0,0)-(0.5,0)-(1,0)-(1.5,0) (upper body), mortar (0,0)-(0.5,0)-(1,0):
      * nodes project exactly onto mortar nodes, the last one beyond the end */
     const PetscReal xn[8] = {1.5, 0, 1, 0, 0.5, 0, 0, 0}, xm[6] = {0, 0, 0.5, 0, 1, 0};
     const PetscInt  gn[4] = {100, 102, 104, 106}, en[6] = {1, 0, 2, 1, 3, 2}, gm[3] = {0, 2, 4}, em[4] = {1, 0, 2, 1};
-    M2dContact      d   = {0};
+    M2dContactPair      d   = {0};
     PetscReal       len = 0, sumw = 0;
     PetscBool       finite = PETSC_TRUE;
     PetscCall(SurfaceCreate(4, xn, gn, 3, en, &d.nm));
@@ -142,7 +142,7 @@ int main(int argc, char **argv)
       if (j >= 0) CHECK(PetscAbsReal(N.w[j] - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 105) - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 3) + 0.5) < 1e-15, "NTS row: a_s n at the node, -a_s n at the coincident mortar node");
       PetscCall(ContactRowsDestroy(&N));
     }
-    PetscCall(ContactDestroy(&d));
+    PetscCall(ContactPairDestroy(&d));
   }
   PetscCall(PetscFinalize());
   printf("%d failed\n", failures);

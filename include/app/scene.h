@@ -9,6 +9,8 @@
 #define M2D_MAX_BODIES 8
 #define M2D_MAX_BC     32
 #define M2D_NAME_LEN   128
+#define M2D_MAX_MESH   M2D_MAX_BODIES
+#define M2D_MAX_PAIRS  16
 
 typedef enum {
   M2D_PLANE_STRAIN,
@@ -25,6 +27,16 @@ typedef enum {
   M2D_CONTACT_MORTAR,
   M2D_CONTACT_NTS
 } M2dContactMethod;
+
+/* one contact pair: non-mortar group : mortar group, its discretisation */
+typedef struct {
+  char             nm[M2D_NAME_LEN], m[M2D_NAME_LEN];
+  M2dContactMethod method;
+  int              basis;        /* MortarBasis (mortar.h) */
+  PetscBool        own_method;   /* given in -contact_pairs (NM:M:standard|dual|nts) */
+  PetscReal        hertz_radius; /* -hertz: this pair's effective radius */
+  char             what[2 * M2D_NAME_LEN + 64]; /* the options that name it, for messages */
+} M2dPair;
 
 typedef enum {
   M2D_KKT_AIJ,
@@ -74,7 +86,7 @@ typedef struct {
   PetscReal      mesh_scale; /* coordinates are multiplied by this (unit change) */
   PetscBool      mesh_check; /* run DMPlexCheck* on the plex as built */
   M2dPartitioner mesh_partitioner;
-  char           mesh[2][PETSC_MAX_PATH_LEN]; /* resolved (SceneResolvePath against mesh_dir) */
+  char           mesh[M2D_MAX_MESH][PETSC_MAX_PATH_LEN]; /* resolved (SceneResolvePath against mesh_dir) */
   char           mesh_dir[PETSC_MAX_PATH_LEN];
   char           geo[PETSC_MAX_PATH_LEN]; /* .geo source for remeshing, resolved against geo_dir; "" none */
   char           geo_dir[PETSC_MAX_PATH_LEN];
@@ -91,10 +103,13 @@ typedef struct {
   PetscReal      exact_angle; /* degrees: -exact uniform's frame, x' = R(angle) x */
   PetscReal      mms_amplitude;
   PetscReal      mms_wavenumber; /* k of u = A (sin kx cos ky, cos kx sin ky): pi, times the reference length inside (units.h) */
-  /* contact pair (empty: no contact) */
+  /* contact pairs (none: no contact): -contact_pairs, or the short form
+   * -contact_nonmortar/-contact_mortar (contact_nm, contact_m) */
   char             contact_nm[M2D_NAME_LEN], contact_m[M2D_NAME_LEN];
-  M2dContactMethod method;
-  int              basis;           /* MortarBasis (mortar.h) */
+  PetscInt         npair;
+  M2dPair          pair[M2D_MAX_PAIRS];
+  M2dContactMethod method;          /* -contact_method: every pair without its own */
+  int              basis;           /* MortarBasis (mortar.h): -mortar_basis, the same */
   PetscBool        reach_set;       /* -contact_reach given; FALSE: automatic (reach is then 0) */
   PetscReal        reach;           /* search distance, > 0 when reach_set */
   PetscBool        unilateral;      /* FALSE: every candidate node is held closed (tied) */
@@ -103,9 +118,9 @@ typedef struct {
   PetscBool        contact_monitor;
   PetscInt         contact_initial; /* first active set: 0 closed gaps, 1 closest nodes, 2 every candidate */
   PetscBool        hertz;           /* compare the contact pressure with Hertz */
-  PetscInt         hertz_nradius;   /* 1 or 2 radii given */
-  PetscReal        hertz_radii[2];  /* R1 (and R2) of -hertz_radius */
-  PetscReal        hertz_radius;    /* effective radius: R1 R2 / (R1 + R2), or R1 */
+  PetscInt         hertz_nradius;   /* 1 or 2 radii given (every pair), or 2 per pair */
+  PetscReal        hertz_radii[2 * M2D_MAX_PAIRS]; /* R1 (and R2) of -hertz_radius */
+  PetscReal        hertz_radius;    /* effective radius of the first pair (pair[k].hertz_radius: each pair's) */
   PetscBool        hertz_load_set;  /* -hertz_load given; FALSE: from the first -pressure (hertz_load is then 0) */
   PetscReal        hertz_load;
   PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */

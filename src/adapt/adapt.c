@@ -384,7 +384,7 @@ static PetscInt EdgeCell(const PrevMesh *prev, const PetscInt *vptr, const Petsc
  * ripple would refine one side further. The gradation then carries the sizes
  * into each body. c: the contact pair in the user's units (after
  * ReportCompute; its reach still in reference units, L the length unit). */
-static PetscErrorCode Balance(PrevMesh *prev, const M2dContact *c, PetscReal L)
+static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal L)
 {
   M2dSegmentSet        own;
   const M2dSegmentSet *S = &c->seg;
@@ -665,14 +665,25 @@ static void Scale(PrevMesh *prev, double f)
  * 2e-3 of the zone's length along the non-mortar surface (edges with both
  * nodes active; user units), so that no cell (the square root of its area:
  * gmsh's quads of size h measure 0.6-0.8 h so) is below 1e-3 of it */
-static void Floor(PrevMesh *prev, const M2dContact *c, PetscReal L, PetscBool *act)
+static PetscErrorCode Floor(PrevMesh *prev, const M2dContact *ct, PetscReal L)
 {
-  PetscReal len = 0;
-  for (PetscInt i = 0; i < c->nm.nnode; i++) act[i] = PETSC_FALSE;
-  for (PetscInt j = 0; j < c->R.n; j++) act[c->R.node[j]] = (PetscBool)(c->active[j] != 0);
-  for (PetscInt e = 0; e < c->nm.nedge; e++)
-    if (act[c->nm.edge[2 * e]] && act[c->nm.edge[2 * e + 1]]) len += c->nm.len[e] * L; /* len: reference units */
-  for (long q = 0; q < prev->msh.nquad; q++) prev->hcell[q] = PetscMax(prev->hcell[q], 2e-3 * len);
+  PetscReal floor = 0; /* several pairs: the shortest zone's */
+
+  PetscFunctionBeginUser;
+  for (PetscInt p = 0; p < ct->npair; p++) {
+    const M2dContactPair *c = &ct->pair[p];
+    PetscBool            *act;
+    PetscReal             len = 0;
+    PetscCall(PetscMalloc1(c->nm.nnode + 1, &act));
+    for (PetscInt i = 0; i < c->nm.nnode; i++) act[i] = PETSC_FALSE;
+    for (PetscInt j = 0; j < c->R.n; j++) act[c->R.node[j]] = (PetscBool)(c->active[j] != 0);
+    for (PetscInt e = 0; e < c->nm.nedge; e++)
+      if (act[c->nm.edge[2 * e]] && act[c->nm.edge[2 * e + 1]]) len += c->nm.len[e] * L; /* len: reference units */
+    PetscCall(PetscFree(act));
+    if (len > 0) floor = floor > 0 ? PetscMin(floor, 2e-3 * len) : 2e-3 * len;
+  }
+  for (long q = 0; q < prev->msh.nquad; q++) prev->hcell[q] = PetscMax(prev->hcell[q], floor);
+  PetscFunctionReturn(0);
 }
 
 /* The mesh of step k > 0 from the size field of step st: gathered on rank 0,
@@ -691,12 +702,8 @@ static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptO
   PetscCall(GatherPrevMesh(st, &prev));
   if (prev.hcell) { /* rank 0 */
     if (st->pb.has_contact) {
-      PetscBool *act;
-      PetscCall(Balance(&prev, &st->pb.contact, st->pb.units.L));
-
-      PetscCall(PetscMalloc1(st->pb.contact.nm.nnode + 1, &act));
-      Floor(&prev, &st->pb.contact, st->pb.units.L, act);
-      PetscCall(PetscFree(act));
+      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L)); /* every interface */
+      PetscCall(Floor(&prev, &st->pb.contact, st->pb.units.L));
     }
     PetscCall(Grade(&prev, ao->grading));
     {

@@ -13,7 +13,6 @@
 static PetscErrorCode DualWeights(const M2dProblem *pb, const M2dSolution *sol, PetscReal omega[])
 {
   const M2dContact  *ct = &pb->contact;
-  const M2dSurface  *nm = &ct->nm;
   Vec                all;
   VecScatter         sc;
   const PetscScalar *l;
@@ -24,26 +23,29 @@ static PetscErrorCode DualWeights(const M2dProblem *pb, const M2dSolution *sol, 
   PetscCall(VecScatterCreateToAll(sol->lam, &sc, &all));
   PetscCall(VecScatterBegin(sc, sol->lam, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(sc, sol->lam, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(PetscMalloc1(nm->nnode + 1, &mult));
-  for (PetscInt i = 0; i < nm->nnode; i++) mult[i] = -1;
-  for (PetscInt j = 0; j < n; j++) mult[ct->R.node[j]] = j;
   PetscCall(VecGetArrayRead(all, &l));
-  for (PetscInt j = 0; j < n; j++) {
-    PetscInt  i = ct->R.node[j], nb[2], k = 0;
-    PetscReal lv[2], h[2], li = PetscRealPart(l[j]);
-    omega[j] = 0;
-    for (PetscInt q = nm->n2e_ptr[i]; q < nm->n2e_ptr[i + 1] && k < 2; q++) {
-      PetscInt e = nm->n2e[q], o = nm->edge[2 * e] == i ? nm->edge[2 * e + 1] : nm->edge[2 * e];
-      nb[k]      = o;
-      h[k]       = nm->len[e];
-      lv[k]      = mult[o] >= 0 ? PetscRealPart(l[mult[o]]) : 0.0;
-      k++;
+  for (PetscInt p = 0; p < ct->npair; p++) { /* each pair along its own non-mortar surface */
+    const M2dContactPair *cp = &ct->pair[p];
+    const M2dSurface     *nm = &cp->nm;
+    PetscCall(PetscMalloc1(nm->nnode + 1, &mult));
+    for (PetscInt i = 0; i < nm->nnode; i++) mult[i] = -1;
+    for (PetscInt j = cp->off; j < cp->off + cp->R.n; j++) mult[ct->R.node[j]] = j;
+    for (PetscInt j = cp->off; j < cp->off + cp->R.n; j++) {
+      PetscInt  i = ct->R.node[j], k = 0;
+      PetscReal lv[2], h[2], li = PetscRealPart(l[j]);
+      omega[j] = 0;
+      for (PetscInt q = nm->n2e_ptr[i]; q < nm->n2e_ptr[i + 1] && k < 2; q++) {
+        PetscInt e = nm->n2e[q], o = nm->edge[2 * e] == i ? nm->edge[2 * e + 1] : nm->edge[2 * e];
+        h[k]       = nm->len[e];
+        lv[k]      = mult[o] >= 0 ? PetscRealPart(l[mult[o]]) : 0.0;
+        k++;
+      }
+      if (k < 2) continue;
+      /* h^2/8 |lambda''|, lambda'' from the three nodes' nonuniform second difference */
+      omega[j] = PetscSqr(0.5 * (h[0] + h[1])) / 8 * PetscAbsReal(2 * ((lv[1] - li) / h[1] - (li - lv[0]) / h[0]) / (h[0] + h[1]));
+      wmax     = PetscMax(wmax, omega[j]);
     }
-    if (k < 2) continue;
-    /* h^2/8 |lambda''|, lambda'' from the three nodes' nonuniform second difference */
-    omega[j] = PetscSqr(0.5 * (h[0] + h[1])) / 8 * PetscAbsReal(2 * ((lv[1] - li) / h[1] - (li - lv[0]) / h[0]) / (h[0] + h[1]));
-    wmax     = PetscMax(wmax, omega[j]);
-    (void)nb;
+    PetscCall(PetscFree(mult));
   }
   {
     PetscReal lmax = 0, mix = M2D_DUAL_SHAPE;
@@ -51,7 +53,6 @@ static PetscErrorCode DualWeights(const M2dProblem *pb, const M2dSolution *sol, 
     for (PetscInt j = 0; j < n; j++) omega[j] = (1 - mix) * (wmax > 0 ? omega[j] / wmax : 0) + mix * (lmax > 0 ? PetscRealPart(l[j]) / lmax : 0);
   }
   PetscCall(VecRestoreArrayRead(all, &l));
-  PetscCall(PetscFree(mult));
   PetscCall(VecDestroy(&all));
   PetscCall(VecScatterDestroy(&sc));
   PetscFunctionReturn(0);

@@ -287,7 +287,7 @@ static PetscErrorCode EdgeCells(const M2dMesh *m, const M2dSurface *S, const Pet
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SurfCreate(const M2dMesh *m, const M2dContact *ct, Surf *sf)
+static PetscErrorCode SurfCreate(const M2dMesh *m, const M2dContactPair *ct, Surf *sf)
 {
   PetscSection gsec;
   PetscInt     nv = m->vEnd - m->vStart;
@@ -319,7 +319,7 @@ static PetscErrorCode SurfDestroy(Surf *sf)
 }
 
 /* copy body b's recovered stresses at the surface nodes this rank owns */
-static PetscErrorCode SurfPick(const M2dMesh *m, const M2dContact *ct, PetscInt b, const PetscReal sv[], const PetscBool has[], Surf *sf)
+static PetscErrorCode SurfPick(const M2dMesh *m, const M2dContactPair *ct, PetscInt b, const PetscReal sv[], const PetscBool has[], Surf *sf)
 {
   PetscSection gsec;
 
@@ -347,7 +347,7 @@ static void Traction(const PetscReal sig[3], const PetscReal n[2], PetscReal *p,
 
 /* traction jumps on one segment: jn (non-mortar side) and jm (mortar side),
  * int (p* - lambda)^2 + tau*^2 ds, 3-point Gauss (the integrands are quartic) */
-static void SegmentJumps(const M2dContact *ct, const Surf *sf, const PetscReal lamn[], const M2dSegment *sg, PetscReal *jn, PetscReal *jm)
+static void SegmentJumps(const M2dContactPair *ct, const Surf *sf, const PetscReal lamn[], const M2dSegment *sg, PetscReal *jn, PetscReal *jm)
 {
   const M2dSurface *nm = &ct->nm, *ms = &ct->m;
   const PetscInt    a = nm->edge[2 * sg->nm_edge], b = nm->edge[2 * sg->nm_edge + 1];
@@ -391,7 +391,7 @@ static PetscReal Complementarity(const M2dSurface *nm, PetscInt e, const PetscRe
   return r;
 }
 
-static PetscErrorCode ContactTerms(const Ctx *x, const M2dContact *ct, const Surf *sf, PetscReal eta2[], PetscReal *sum)
+static PetscErrorCode ContactTerms(const Ctx *x, const M2dContactPair *ct, const Surf *sf, PetscReal eta2[], PetscReal *sum)
 {
   const M2dSurface    *nm = &ct->nm, *ms = &ct->m;
   const M2dSegmentSet *S  = &ct->seg;
@@ -448,8 +448,8 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   DM        dmr;
   PetscReal *sv, loc[3] = {0, 0, 0}, vol = 0, emax = 0; /* loc: volume, contact, energy */
   PetscBool *has;
-  PetscInt   nv = m->vEnd - m->vStart, nlc = m->cEnd - m->cStart;
-  Surf       sf;
+  PetscInt   nv = m->vEnd - m->vStart, nlc = m->cEnd - m->cStart, np = ct ? ct->npair : 0;
+  Surf      *sf = NULL; /* one per pair */
 
   PetscFunctionBeginUser;
   PetscCall(M2dLogRegister());
@@ -459,7 +459,8 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
   PetscCall(CtxOpen(m, s, u, &x));
   PetscCall(CreateRecoveryDM(m, &dmr));
   PetscCall(PetscMalloc2(3 * nv + 1, &sv, nv + 1, &has));
-  if (ct) PetscCall(SurfCreate(m, ct, &sf));
+  PetscCall(PetscCalloc1(np + 1, &sf));
+  for (PetscInt p = 0; p < np; p++) PetscCall(SurfCreate(m, &ct->pair[p], &sf[p]));
   for (PetscInt c = 0; c < nlc; c++) eta[c] = 0;
   for (PetscInt b = 0; b < s->nbody; b++) { /* one body at a time: no smoothing across bodies */
     PetscCall(RecoverBody(&x, dmr, b, rec, sv, has));
@@ -467,18 +468,19 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
       if (has[v])
         for (int r = 0; r < 3; r++) nodal[3 * v + r] = sv[3 * v + r];
     PetscCall(CellIndicators(&x, b, sv, eta, &loc[2]));
-    if (ct) PetscCall(SurfPick(m, ct, b, sv, has, &sf));
+    for (PetscInt p = 0; p < np; p++) PetscCall(SurfPick(m, &ct->pair[p], b, sv, has, &sf[p]));
   }
   for (PetscInt c = 0; c < nlc; c++) vol += eta[c];
   if (eta_volume)
     for (PetscInt c = 0; c < nlc; c++) eta_volume[c] = PetscSqrtReal(eta[c]);
   loc[0] = vol;
-  if (ct) {
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sf.snm, (PetscMPIInt)(3 * ct->nm.nnode), MPIU_REAL, MPI_SUM, comm));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sf.sm, (PetscMPIInt)(3 * ct->m.nnode), MPIU_REAL, MPI_SUM, comm));
-    PetscCall(ContactTerms(&x, ct, &sf, eta, &loc[1]));
-    PetscCall(SurfDestroy(&sf));
+  for (PetscInt p = 0; p < np; p++) { /* every interface */
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sf[p].snm, (PetscMPIInt)(3 * ct->pair[p].nm.nnode), MPIU_REAL, MPI_SUM, comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sf[p].sm, (PetscMPIInt)(3 * ct->pair[p].m.nnode), MPIU_REAL, MPI_SUM, comm));
+    PetscCall(ContactTerms(&x, &ct->pair[p], &sf[p], eta, &loc[1]));
+    PetscCall(SurfDestroy(&sf[p]));
   }
+  PetscCall(PetscFree(sf));
   for (PetscInt c = 0; c < nlc; c++) {
     eta[c] = PetscSqrtReal(eta[c]);
     emax   = PetscMax(emax, eta[c]);

@@ -52,7 +52,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 /* the output paths against each other and every file the run reads */
 static PetscErrorCode CheckOutputPaths(MPI_Comm comm, M2dScene *s)
 {
-  M2dInputFile       in[2 + 1 + 64];
+  M2dInputFile       in[M2D_MAX_MESH + 1 + 64];
   const char *const *optfiles;
   PetscInt           n = 0;
   int                nopt = M2dOptionsFilesRead(&optfiles);

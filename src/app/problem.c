@@ -41,8 +41,11 @@ static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMes
     PetscCall(CheckNotEmpty(comm, m, s->load[i].group, opt));
     PetscCall(MeshCheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
   }
-  PetscCall(MeshCheckOnBoundary(m, s, s->contact_nm, "-contact_nonmortar", "a contact surface is part of the boundary"));
-  PetscCall(MeshCheckOnBoundary(m, s, s->contact_m, "-contact_mortar", "a contact surface is part of the boundary"));
+  for (PetscInt k = 0; k < s->npair; k++) {
+    PetscBool short_form = (PetscBool)(s->contact_nm[0] != 0);
+    PetscCall(MeshCheckOnBoundary(m, s, s->pair[k].nm, short_form ? "-contact_nonmortar" : "-contact_pairs", "a contact surface is part of the boundary"));
+    PetscCall(MeshCheckOnBoundary(m, s, s->pair[k].m, short_form ? "-contact_mortar" : "-contact_pairs", "a contact surface is part of the boundary"));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -191,7 +194,7 @@ static PetscErrorCode Assemble(M2dProblem *pb)
 PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly)
 {
   PetscFunctionBeginUser;
-  pb->has_contact = (PetscBool)(pb->s.contact_nm[0] != 0);
+  pb->has_contact = (PetscBool)(pb->s.npair > 0);
   PetscCall(PetscLogStagePush(contact_stage));
   *t_contact = M2dWallTime();
   if (pb->has_contact) {

@@ -46,45 +46,83 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SummarizeHertz(M2dProblem *pb, M2dFigures *fig, M2dSummary *sum)
+/* pair k's Hertz comparison: the first pair's at the top level, every pair's in "pairs" */
+static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, M2dFigures *fig, M2dSummary *sum)
 {
   M2dHertzResult h;
   const M2dUnits *un = &pb->units;
 
   PetscFunctionBeginUser;
-  PetscCall(ContactHertz(&pb->contact, &pb->s, &h)); /* reference units */
-  fig->pressure_l2_rel = h.pressure_l2_rel;
-  SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
-  SummaryReal(sum, "", "peak_pressure", h.peak_pressure * un->S);
-  SummaryReal(sum, "", "half_width", h.half_width * un->L);
-  SummaryReal(sum, "", "half_width_spacing", h.h_edge * un->L);
-  SummaryReal(sum, "", "hertz_a", h.a * un->L);
-  SummaryReal(sum, "", "hertz_p0", h.p0 * un->S);
-  SummaryReal(sum, "", "hertz_radius", pb->user->hertz_radius);
-  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", (double)(h.a * un->L), (double)(h.half_width * un->L), (double)(h.h_edge * un->L), (double)(h.p0 * un->S),
+  PetscCall(ContactHertz(&pb->contact.pair[k], &pb->s, &h)); /* reference units */
+  fig->pressure_l2_rel = k ? PetscMax(fig->pressure_l2_rel, h.pressure_l2_rel) : h.pressure_l2_rel;
+  if (k == 0) {
+    SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
+    SummaryReal(sum, "", "peak_pressure", h.peak_pressure * un->S);
+    SummaryReal(sum, "", "half_width", h.half_width * un->L);
+    SummaryReal(sum, "", "half_width_spacing", h.h_edge * un->L);
+    SummaryReal(sum, "", "hertz_a", h.a * un->L);
+    SummaryReal(sum, "", "hertz_p0", h.p0 * un->S);
+    SummaryReal(sum, "", "hertz_radius", pb->user->hertz_radius);
+  }
+  if (pb->s.npair > 1) {
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "pressure_l2_rel", h.pressure_l2_rel));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "peak_pressure", h.peak_pressure * un->S));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "half_width", h.half_width * un->L));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_a", h.a * un->L));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_p0", h.p0 * un->S));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_radius", pb->user->pair[k].hertz_radius));
+  }
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz%s%s: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", pb->s.npair > 1 ? " " : "", pb->s.npair > 1 ? pb->s.pair[k].nm : "", (double)(h.a * un->L), (double)(h.half_width * un->L), (double)(h.h_edge * un->L), (double)(h.p0 * un->S),
                         (double)(h.peak_pressure * un->S), (double)h.pressure_l2_rel));
   PetscFunctionReturn(0);
 }
 
-/* the interface results (ContactResults already called, reference units) */
-static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dFigures *fig, M2dSummary *sum)
+/* every pair in the list "pairs" (user units), and a line each */
+static PetscErrorCode SummarizePairs(const M2dProblem *pb, M2dSummary *sum)
 {
-  M2dContact *c = &pb->contact;
-  PetscReal   na;
+  const M2dContact *c = &pb->contact;
 
   PetscFunctionBeginUser;
-  if (pb->s.hertz) PetscCall(SummarizeHertz(pb, fig, sum));
+  for (PetscInt k = 0; k < c->npair; k++) {
+    const M2dContactPair *p  = &c->pair[k];
+    PetscInt              na = 0;
+    for (PetscInt j = 0; j < p->R.n; j++) na += p->active[j] != 0;
+    PetscCall(M2dSummaryListString(sum, "pairs", k, "nonmortar", p->def->nm));
+    PetscCall(M2dSummaryListString(sum, "pairs", k, "mortar", p->def->m));
+    PetscCall(M2dSummaryListString(sum, "pairs", k, "method", p->method == M2D_CONTACT_NTS ? "nts" : p->basis == M2D_MORTAR_DUAL ? "mortar dual" : "mortar standard"));
+    PetscCall(M2dSummaryListInt(sum, "pairs", k, "contact_nodes", p->R.n));
+    PetscCall(M2dSummaryListInt(sum, "pairs", k, "active_nodes", na));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force", p->force_n));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force_x", p->force[0]));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force_y", p->force[1]));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "pair %d '%s:%s': %" PetscInt_FMT " of %" PetscInt_FMT " nodes active, integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (int)k + 1, p->def->nm, p->def->m, na, p->R.n, (double)p->force_n, (double)p->force[0], (double)p->force[1]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the interface results (ContactResults already called, reference units);
+ * the top-level figures are the first pair's (every pair's in "pairs"),
+ * contact_nodes and active_nodes count every pair */
+static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M2dFigures *fig, M2dSummary *sum)
+{
+  M2dContact     *c = &pb->contact;
+  M2dContactPair *c0 = &c->pair[0];
+  PetscReal       na;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < c->npair && pb->s.hertz; k++) PetscCall(SummarizeHertz(pb, k, fig, sum));
   PetscCall(ContactToUserUnits(c, &pb->units));
-  SummaryString(sum, "", "method", pb->s.method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
+  SummaryString(sum, "", "method", c0->method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
   SummaryInt(sum, "", "contact_nodes", c->R.n);
-  SummaryReal(sum, "", "contact_force", c->force_n);
-  SummaryReal(sum, "", "contact_force_x", c->force[0]);
-  SummaryReal(sum, "", "contact_force_y", c->force[1]);
-  if (c->nm.body >= 0 && c->m.body >= 0) {
+  SummaryReal(sum, "", "contact_force", c0->force_n);
+  SummaryReal(sum, "", "contact_force_x", c0->force[0]);
+  SummaryReal(sum, "", "contact_force_y", c0->force[1]);
+  if (c0->nm.body >= 0 && c0->m.body >= 0) {
     char signs[3 * M2D_NAME_LEN + 256];
-    PetscCall(PetscSNPrintf(signs, sizeof(signs), "contact_force: the integral of the contact pressure, positive in compression; contact_force_x, contact_force_y: the force of the mortar body '%s' on the non-mortar body '%s'", pb->s.body[c->m.body].name, pb->s.body[c->nm.body].name));
+    PetscCall(PetscSNPrintf(signs, sizeof(signs), "contact_force: the integral of the contact pressure, positive in compression; contact_force_x, contact_force_y: the force of the mortar body '%s' on the non-mortar body '%s'%s", pb->s.body[c0->m.body].name, pb->s.body[c0->nm.body].name, c->npair > 1 ? " (the first pair; every pair's in pairs)" : ""));
     SummaryString(sum, "", "contact_force_signs", signs);
   }
+  if (c->npair > 1) PetscCall(SummarizePairs(pb, sum));
   SummaryString(sum, "", "contact_solver", sol->path == M2D_PATH_TIED ? "tied" : sol->as.vi ? "vinewtonrsls" : "pdas");
   if (sol->path != M2D_PATH_TIED) SummaryInt(sum, "", "iterations", sol->as.iterations);
   PetscCall(VecSum(sol->active, &na));
@@ -99,7 +137,7 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
     SummaryReal(sum, "", "factor_flops_max_rank", sol->as.factor_flops_max);
     SummaryInt(sum, "", "interface_unknowns", sol->as.interface_unknowns);
   }
-  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (double)c->force_n, (double)c->force[0], (double)c->force[1]));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)%s\n", (double)c0->force_n, (double)c0->force[0], (double)c0->force[1], c->npair > 1 ? " (the first pair)" : ""));
   PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact pressure: %" PetscInt_FMT " active nodes, estimated error %.3e (relative L2), ripple %.2f%% of the peak over %" PetscInt_FMT " interior ones\n", (PetscInt)(na + 0.5), (double)fig->pressure_estimate, (double)(100 * fig->pressure_ripple), fig->ripple_nodes));
   PetscFunctionReturn(0);
 }

@@ -143,11 +143,11 @@ static PetscErrorCode ParseEdgeLoad(int kind, const char *entry, M2dEdgeLoad *l)
 static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   const char *const parts[] = {"metis", "petsc"}; /* order of M2dPartitioner */
-  char             *mesh[2], *bodies[M2D_MAX_BODIES];
+  char             *mesh[M2D_MAX_MESH], *bodies[M2D_MAX_BODIES];
   PetscInt          nbodies;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s): one for all bodies or two comma-separated; default: none, required", 2, sizeof(s->mesh[0]), mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (at most 8); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -206,6 +206,35 @@ static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObjec
   PetscFunctionReturn(0);
 }
 
+/* one -contact_pairs entry NM:M[:standard|dual|nts] into s->pair[k] (form
+ * errors deferred: options.h) */
+static PetscErrorCode ParsePair(const char *entry, PetscInt k, M2dScene *s)
+{
+  const char *const kinds[] = {"standard", "dual", "nts"};
+  M2dPair          *p       = &s->pair[k];
+  const char       *c1 = strchr(entry, ':'), *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+  size_t            l1 = c1 ? (size_t)(c1 - entry) : 0, l2 = c1 ? (c2 ? (size_t)(c2 - c1 - 1) : strlen(c1 + 1)) : 0;
+
+  PetscFunctionBeginUser;
+  s->npair = k + 1;
+  if (!c1 || !l1 || !l2 || l1 >= sizeof(p->nm) || l2 >= sizeof(p->m) || (c2 && strchr(c2 + 1, ':'))) {
+    PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' is not NM:M or NM:M:standard|dual|nts (non-mortar curve:mortar curve)", entry));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(p->nm, entry, l1 + 1));
+  PetscCall(PetscStrncpy(p->m, c1 + 1, l2 + 1));
+  if (c2) {
+    int i = 0;
+    while (i < 3 && strcasecmp(c2 + 1, kinds[i])) i++;
+    if (i == 3) PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' in '%s' is not standard, dual or nts", c2 + 1, entry));
+    p->own_method = PETSC_TRUE;
+    p->method     = i == 2 ? M2D_CONTACT_NTS : M2D_CONTACT_MORTAR;
+    p->basis      = i == 1 ? 1 : 0; /* MortarBasis: standard, dual */
+  }
+  PetscCall(PetscSNPrintf(p->what, sizeof(p->what), "option -contact_pairs, pair %d '%s:%s'", (int)k + 1, p->nm, p->m));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   const char *const methods[] = {"mortar", "nts"}; /* order of M2dContactMethod */
@@ -213,8 +242,16 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   const char *const init[]    = {"gap", "closest", "all"};
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "physical curve of the non-mortar contact surface; default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "physical curve of the mortar contact surface; default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
+  char    *list[M2D_MAX_PAIRS];
+  PetscInt n = 0;
+
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts],... non-mortar:mortar curve[:own method]; default: none", M2D_MAX_PAIRS, 0, list, &n));
+  for (PetscInt i = 0; i < n; i++) {
+    PetscCall(ParsePair(list[i], i, s));
+    PetscCall(PetscFree(list[i]));
+  }
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_nonmortar", "non-mortar curve of one pair (several: -contact_pairs); default: none (no contact)", s->contact_nm, sizeof(s->contact_nm), NULL));
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-contact_mortar", "mortar curve of one pair (several: -contact_pairs); default: none (no contact)", s->contact_m, sizeof(s->contact_m), NULL));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-contact_method", "contact discretisation: mortar or nts (node-to-segment)", methods, 2, (PetscEnum *)&s->method));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-mortar_basis", "multipliers: standard (the seed report) or dual (biorthogonal: diagonal D)", basis, 2, (PetscEnum *)&s->basis));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_unilateral", "unilateral contact (active set); false: every candidate node held closed (tied)", s->unilateral, &s->unilateral));
@@ -235,7 +272,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_angle", "-exact uniform: its frame turned by this angle, in degrees", s->exact_angle, &s->exact_angle, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
-  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (effective R1 R2/(R1 + R2)), > 0", 2, s->hertz_radii, &s->hertz_nradius));
+  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (R1 R2/(R1 + R2)), > 0; or R1,R2 per pair", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
@@ -361,6 +398,41 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* the pairs: the short form as pair 1, each pair's method, no pair twice,
+ * each pair's Hertz radius */
+static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
+  PetscCheck(!s->contact_nm[0] || !s->npair, comm, PETSC_ERR_USER_INPUT, "option -contact_pairs: give the pairs either there or as -contact_nonmortar and -contact_mortar (one pair), not both");
+  for (int k = 0; k < 2 && s->contact_nm[0]; k++) {
+    const char *g = k ? s->contact_m : s->contact_nm;
+    PetscCheck(!strpbrk(g, ",:"), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' names more than one curve: -contact_nonmortar and -contact_mortar give one pair, -contact_pairs NM1:M1,NM2:M2 several", k ? "-contact_mortar" : "-contact_nonmortar", g);
+  }
+  if (s->contact_nm[0]) {
+    s->npair = 1;
+    PetscCall(PetscStrncpy(s->pair[0].nm, s->contact_nm, sizeof(s->pair[0].nm)));
+    PetscCall(PetscStrncpy(s->pair[0].m, s->contact_m, sizeof(s->pair[0].m)));
+    PetscCall(PetscSNPrintf(s->pair[0].what, sizeof(s->pair[0].what), "options -contact_nonmortar %s and -contact_mortar %s", s->contact_nm, s->contact_m));
+  }
+  for (PetscInt k = 0; k < s->npair; k++) {
+    M2dPair *p = &s->pair[k];
+    if (!p->own_method) p->method = s->method, p->basis = s->basis;
+    PetscCheck(strcmp(p->nm, p->m), comm, PETSC_ERR_USER_INPUT, "%s: the curve '%s' is on both sides", p->what, p->nm);
+    for (PetscInt i = 0; i < k; i++) {
+      const M2dPair *q = &s->pair[i];
+      PetscCheck((strcmp(p->nm, q->nm) || strcmp(p->m, q->m)) && (strcmp(p->nm, q->m) || strcmp(p->m, q->nm)), comm, PETSC_ERR_USER_INPUT, "%s: the same pair as pair %d '%s:%s'", p->what, (int)i + 1, q->nm, q->m);
+    }
+  }
+  PetscCheck(s->hertz_nradius <= 2 || s->hertz_nradius == 2 * s->npair, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %d radii: give R or R1,R2 for every pair, or R1,R2 for each of the %d pairs", (int)s->hertz_nradius, (int)s->npair);
+  for (PetscInt k = 0; k < PetscMax(1, s->npair); k++) {
+    const PetscReal *r = s->hertz_nradius > 2 ? &s->hertz_radii[2 * k] : s->hertz_radii;
+    s->pair[k].hertz_radius = s->hertz_nradius >= 2 ? r[0] * r[1] / (r[0] + r[1]) : r[0];
+  }
+  s->hertz_radius = s->pair[0].hertz_radius;
+  PetscFunctionReturn(0);
+}
+
 /* domains, and options that need one another */
 static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
 {
@@ -375,17 +447,16 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
   for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
-  s->hertz_radius = s->hertz_nradius == 2 ? s->hertz_radii[0] * s->hertz_radii[1] / (s->hertz_radii[0] + s->hertz_radii[1]) : s->hertz_radii[0];
   PetscCall(CheckMumps(comm, s));
   PetscCall(CheckSNESMaxIt(comm));
   PetscCall(CheckTolerances(comm));
-  PetscCheck(!s->contact_nm[0] == !s->contact_m[0], comm, PETSC_ERR_USER_INPUT, "option %s: a contact pair needs both -contact_nonmortar and -contact_mortar", s->contact_nm[0] ? "-contact_mortar" : "-contact_nonmortar");
+  PetscCall(CheckPairs(comm, s));
   if (s->exact == M2D_EXACT_UNIFORM && !s->exact_p_set) {
     PetscCheck(s->nload > 0 && s->load[0].is_pressure && s->load[0].p != 0, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a first -pressure load P != 0 (its value is the exact -sigma_yy)");
     s->exact_p = s->load[0].p;
   }
   PetscCheck(!s->hertz || s->hertz_load_set || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
-  PetscCheck(!s->hertz || s->contact_nm[0], comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_nonmortar, -contact_mortar)");
+  PetscCheck(!s->hertz || s->npair, comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_pairs, or -contact_nonmortar and -contact_mortar)");
   PetscCheck(s->out.name[0] && !strchr(s->out.name, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->out.name);
   PetscFunctionReturn(0);
 }
@@ -394,13 +465,20 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
  * note when an options file set them); the solver paths' own in solver.c */
 static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s)
 {
+  PetscBool own = PETSC_TRUE, mortar = PETSC_FALSE;
+
   PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < s->npair; k++) {
+    own    = (PetscBool)(own && s->pair[k].own_method);
+    mortar = (PetscBool)(mortar || (!s->pair[k].own_method && s->pair[k].method == M2D_CONTACT_MORTAR));
+  }
   if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load", "without -hertz"));
   if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle", "without -exact uniform"));
   if (s->exact != M2D_EXACT_MMS) PetscCall(M2dOptionsNoEffect(comm, "-mms_amplitude", "without -exact mms"));
-  if (!s->contact_nm[0]) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_nonmortar, -contact_mortar)"));
-  else if (s->method == M2D_CONTACT_NTS) PetscCall(M2dOptionsNoEffect(comm, "-mortar_basis", "with -contact_method nts (node-to-segment rows have no multiplier basis)"));
-  if (s->contact_nm[0] && !s->unilateral) PetscCall(M2dOptionsNoEffect(comm, "-contact_c -contact_initial", "with -contact_unilateral false (every candidate node is held closed: no active set)"));
+  if (!s->npair) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_pairs, or -contact_nonmortar and -contact_mortar)"));
+  else if (own) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis", "when every pair of -contact_pairs names its own method (NM:M:standard|dual|nts)"));
+  else if (!mortar) PetscCall(M2dOptionsNoEffect(comm, "-mortar_basis", "with -contact_method nts (node-to-segment rows have no multiplier basis)"));
+  if (s->npair && !s->unilateral) PetscCall(M2dOptionsNoEffect(comm, "-contact_c -contact_initial", "with -contact_unilateral false (every candidate node is held closed: no active set)"));
   if (!s->geo[0]) PetscCall(M2dOptionsNoEffect(comm, "-geo_dir", "without -geo"));
   PetscFunctionReturn(0);
 }

@@ -11,9 +11,10 @@ typedef struct {
 /* no row within reach: say whether the non-mortar surface lies inside the
  * mortar body deeper than the reach (the meshes overlap), or beyond it (a
  * gap), from its nodes' signed distances to the mortar edges they face */
-static PetscErrorCode NoRows(MPI_Comm comm, const M2dContact *c, const M2dScene *s, PetscReal L)
+static PetscErrorCode NoRows(MPI_Comm comm, const M2dContactPair *c, const M2dScene *s, PetscReal L)
 {
   PetscReal deep = 0, near = PETSC_MAX_REAL, ext = PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  const char *nmg = c->def->nm, *mg = c->def->m;
 
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < c->nm.nnode; i++) {
@@ -31,29 +32,96 @@ static PetscErrorCode NoRows(MPI_Comm comm, const M2dContact *c, const M2dScene 
       near = PetscMin(near, PetscAbsReal(d));
     }
   }
-  PetscCheck(!(deep < -c->reach), comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: '%s' lies up to %g inside body '%s', behind '%s' (the meshes overlap by %.0f%% of that surface's extent %g), deeper than -contact_reach %g: move the bodies apart in the mesh (or raise -contact_reach past the overlap)",
-             s->contact_nm, s->contact_m, s->contact_nm, (double)(-deep * L), c->m.body >= 0 ? s->body[c->m.body].name : "?", s->contact_m, (double)(-100 * deep / ext), (double)(ext * L), (double)(L * c->reach));
-  PetscCheck(near == PETSC_MAX_REAL, comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces are %g apart where they face each other, more than -contact_reach %g: raise -contact_reach or close the gap", s->contact_nm, s->contact_m, (double)(near * L), (double)(L * c->reach));
-  SETERRQ(comm, PETSC_ERR_USER_INPUT, "options -contact_nonmortar %s and -contact_mortar %s: the two surfaces never face each other within %g (-contact_reach)", s->contact_nm, s->contact_m, (double)(L * c->reach));
+  PetscCheck(!(deep < -c->reach), comm, PETSC_ERR_USER_INPUT, "%s: '%s' lies up to %g inside body '%s', behind '%s' (the meshes overlap by %.0f%% of that surface's extent %g), deeper than -contact_reach %g: move the bodies apart in the mesh (or raise -contact_reach past the overlap)",
+             c->def->what, nmg, (double)(-deep * L), c->m.body >= 0 ? s->body[c->m.body].name : "?", mg, (double)(-100 * deep / ext), (double)(ext * L), (double)(L * c->reach));
+  PetscCheck(near == PETSC_MAX_REAL, comm, PETSC_ERR_USER_INPUT, "%s: the two surfaces are %g apart where they face each other, more than -contact_reach %g: raise -contact_reach or close the gap", c->def->what, (double)(near * L), (double)(L * c->reach));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s: the two surfaces never face each other within %g (-contact_reach)", c->def->what, (double)(L * c->reach));
+}
+
+static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, PetscInt k, M2dContactPair *c)
+{
+  MPI_Comm    comm  = PetscObjectComm((PetscObject)m->dm);
+  PetscBool   short_form = (PetscBool)(s->contact_nm[0] != 0);
+
+  PetscFunctionBeginUser;
+  c->def    = &s->pair[k];
+  c->method = c->def->method;
+  c->basis  = (M2dMortarBasis)c->def->basis;
+  PetscCall(SurfaceGather(m, c->def->nm, short_form ? "-contact_nonmortar" : "-contact_pairs", &c->nm));
+  PetscCall(SurfaceGather(m, c->def->m, short_form ? "-contact_mortar" : "-contact_pairs", &c->m));
+  PetscCheck(c->nm.body < 0 || c->nm.body != c->m.body, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", c->def->what, s->body[c->nm.body].name);
+  c->reach = s->reach;
+  if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  if (c->method == M2D_CONTACT_MORTAR) {
+    PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
+    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, &c->R));
+  } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
+  if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));
+  PetscCall(PetscPrintf(comm, "contact%s: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->npair > 1 ? " pair" : "", c->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", c->method == M2D_CONTACT_MORTAR ? (c->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", c->def->nm, c->nm.nedge, c->def->m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
+  PetscFunctionReturn(0);
+}
+
+/* every pair's rows one after another (one pair: a copy of its rows) */
+static PetscErrorCode MergeRows(M2dContact *c)
+{
+  M2dContactRows *R = &c->R;
+  PetscInt        nnz = 0, j = 0;
+
+  PetscFunctionBeginUser;
+  R->n = 0;
+  for (PetscInt k = 0; k < c->npair; k++) {
+    c->pair[k].off = R->n;
+    R->n += c->pair[k].R.n;
+    nnz += c->pair[k].R.ptr[c->pair[k].R.n];
+  }
+  PetscCall(PetscMalloc4(R->n + 1, &R->node, R->n + 1, &R->ptr, R->n + 1, &R->g0, R->n + 1, &R->w));
+  PetscCall(PetscMalloc2(nnz + 1, &R->col, nnz + 1, &R->val));
+  PetscCall(PetscMalloc1(R->n + 1, &c->rowpair));
+  R->ptr[0] = 0;
+  for (PetscInt k = 0; k < c->npair; k++) {
+    const M2dContactRows *P = &c->pair[k].R;
+    PetscCall(PetscArraycpy(&R->col[R->ptr[j]], P->col, P->ptr[P->n]));
+    PetscCall(PetscArraycpy(&R->val[R->ptr[j]], P->val, P->ptr[P->n]));
+    for (PetscInt i = 0; i < P->n; i++, j++) {
+      R->node[j]     = P->node[i];
+      R->g0[j]       = P->g0[i];
+      R->w[j]        = P->w[i];
+      R->ptr[j + 1]  = R->ptr[j] + P->ptr[i + 1] - P->ptr[i];
+      c->rowpair[j]  = k;
+    }
+  }
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2dContact *c)
 {
-  MPI_Comm comm = PetscObjectComm((PetscObject)m->dm);
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(c, sizeof(*c)));
-  PetscCall(SurfaceGather(m, s->contact_nm, "-contact_nonmortar", &c->nm));
-  PetscCall(SurfaceGather(m, s->contact_m, "-contact_mortar", &c->m));
-  c->reach = s->reach;
-  if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
-  if (s->method == M2D_CONTACT_MORTAR) {
-    PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
-    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, s->basis, &c->R));
-  } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
-  if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));
-  PetscCall(PetscPrintf(comm, "contact: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", s->method == M2D_CONTACT_MORTAR ? (s->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", s->contact_nm, c->nm.nedge, s->contact_m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
+  PetscCall(PetscCalloc1(s->npair, &c->pair));
+  c->npair = s->npair;
+  for (PetscInt k = 0; k < s->npair; k++) PetscCall(PairSetup(m, s, L, k, &c->pair[k]));
+  PetscCall(MergeRows(c));
   PetscFunctionReturn(0);
+}
+
+/* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
+static void PairForce(M2dContactPair *c)
+{
+  c->force[0] = c->force[1] = c->force_n = 0;
+  for (PetscInt j = 0; j < c->R.n; j++) c->force_n += c->pressure[j] * c->R.w[j];
+  for (PetscInt j = 0; j < c->R.n; j++)
+    for (PetscInt k = c->R.ptr[j]; k < c->R.ptr[j + 1]; k++) {
+      PetscInt col = c->R.col[k], lo = 0, hi = c->nm.nnode - 1, d = col % 2 ? 1 : 0, base = col - d;
+      while (lo <= hi) { /* c->nm.gdof is sorted */
+        PetscInt mid = (lo + hi) / 2;
+        if (c->nm.gdof[mid] == base) {
+          c->force[d] += c->pressure[j] * c->R.val[k];
+          break;
+        }
+        if (c->nm.gdof[mid] < base) lo = mid + 1;
+        else hi = mid - 1;
+      }
+    }
 }
 
 PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active)
@@ -79,27 +147,16 @@ PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, 
   }
   PetscCall(PetscFree3(c->pressure, c->gap, c->active));
   PetscCall(PetscMalloc3(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap, c->R.n + 1, &c->active));
-  c->force[0] = c->force[1] = c->force_n = 0;
   for (PetscInt j = 0; j < c->R.n; j++) {
     c->pressure[j] = PetscRealPart(a[0][j]);
     c->gap[j]      = PetscRealPart(a[1][j]) / c->R.w[j];
     c->active[j]   = PetscRealPart(a[2][j]);
-    c->force_n += c->pressure[j] * c->R.w[j];
   }
-  /* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
-  for (PetscInt j = 0; j < c->R.n; j++)
-    for (PetscInt k = c->R.ptr[j]; k < c->R.ptr[j + 1]; k++) {
-      PetscInt col = c->R.col[k], lo = 0, hi = c->nm.nnode - 1, d = col % 2 ? 1 : 0, base = col - d;
-      while (lo <= hi) { /* c->nm.gdof is sorted */
-        PetscInt mid = (lo + hi) / 2;
-        if (c->nm.gdof[mid] == base) {
-          c->force[d] += c->pressure[j] * c->R.val[k];
-          break;
-        }
-        if (c->nm.gdof[mid] < base) lo = mid + 1;
-        else hi = mid - 1;
-      }
-    }
+  for (PetscInt k = 0; k < c->npair; k++) {
+    M2dContactPair *p = &c->pair[k];
+    p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
+    PairForce(p);
+  }
   for (int k = 0; k < 3; k++) {
     PetscCall(VecRestoreArrayRead(all[k], &a[k]));
     PetscCall(VecDestroy(&all[k]));
@@ -122,16 +179,19 @@ PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(c->R.n + 1, &o));
-  for (PetscInt j = 0; j < c->R.n; j++) {
-    o[j].x = c->nm.x[2 * c->R.node[j]];
-    o[j].y = c->nm.x[2 * c->R.node[j] + 1];
-    o[j].j = j;
-  }
-  qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpXY);
-  fprintf(fp, "x,y,gap,pressure,weight,active,run_id\n");
-  for (PetscInt k = 0; k < c->R.n; k++) {
-    PetscInt j = o[k].j;
-    fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%s\n", (double)o[k].x, (double)o[k].y, (double)c->gap[j], (double)c->pressure[j], (double)c->R.w[j], c->active[j] != 0, run_id);
+  fprintf(fp, "x,y,gap,pressure,weight,active,pair,run_id\n");
+  for (PetscInt q = 0; q < c->npair; q++) {
+    const M2dContactPair *p = &c->pair[q];
+    for (PetscInt j = 0; j < p->R.n; j++) {
+      o[j].x = p->nm.x[2 * p->R.node[j]];
+      o[j].y = p->nm.x[2 * p->R.node[j] + 1];
+      o[j].j = j;
+    }
+    qsort(o, (size_t)p->R.n, sizeof(XYIdx), CmpXY);
+    for (PetscInt k = 0; k < p->R.n; k++) {
+      PetscInt j = o[k].j;
+      fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%s\n", (double)o[k].x, (double)o[k].y, (double)p->gap[j], (double)p->pressure[j], (double)p->R.w[j], p->active[j] != 0, (int)q + 1, run_id);
+    }
   }
   PetscCall(PetscFree(o));
   PetscFunctionReturn(0);
@@ -140,11 +200,16 @@ PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp
 PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st)
 {
   PetscFunctionBeginUser;
-  st->n = c->R.n;
+  st->n     = c->R.n;
+  st->npair = c->npair;
+  PetscCall(PetscMalloc1(c->npair + 1, &st->off));
+  for (PetscInt k = 0; k < c->npair; k++) st->off[k] = c->pair[k].off;
+  st->off[c->npair] = c->R.n;
   PetscCall(PetscMalloc4(2 * st->n + 1, &st->xy, st->n + 1, &st->active, st->n + 1, &st->pressure, st->n + 1, &st->gap));
   for (PetscInt j = 0; j < st->n; j++) {
-    st->xy[2 * j]     = c->nm.x[2 * c->R.node[j]];
-    st->xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
+    const M2dSurface *nm = &c->pair[c->rowpair[j]].nm;
+    st->xy[2 * j]     = nm->x[2 * c->R.node[j]];
+    st->xy[2 * j + 1] = nm->x[2 * c->R.node[j] + 1];
     st->active[j]     = (PetscBool)(c->active[j] != 0);
     st->pressure[j]   = c->pressure[j];
     st->gap[j]        = c->gap[j];
@@ -156,7 +221,8 @@ PetscErrorCode ContactStateDestroy(M2dContactState *st)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree4(st->xy, st->active, st->pressure, st->gap));
-  st->n = 0;
+  PetscCall(PetscFree(st->off));
+  st->n = st->npair = 0;
   PetscFunctionReturn(0);
 }
 
@@ -189,11 +255,44 @@ static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal 
       }
 }
 
+/* the mortar surface of one pair: the non-mortar values where its node's
+ * nearest point on the chain of multiplier nodes lies, linear between two of
+ * them, none (0 and NaN) beyond its ends */
+static PetscErrorCode PairFillMortar(const M2dContactPair *c, Vec field)
+{
+  XYIdx     *o;
+  PetscReal *xy;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(c->R.n + 1, &o, 2 * c->R.n + 1, &xy));
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    o[j].x = xy[2 * j] = c->nm.x[2 * c->R.node[j]];
+    o[j].y = xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
+    o[j].j = j;
+  }
+  qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpX);
+  for (PetscInt i = 0; i < c->m.nnode && c->R.n > 0; i++) {
+    const PetscReal *p = &c->m.x[2 * i], *a;
+    PetscInt         k[2];
+    PetscReal        t = 0, d2;
+    Nearest2(o, c->R.n, xy, p[0], p[1], k);
+    a  = &xy[2 * k[0]];
+    d2 = PetscSqr(p[0] - a[0]) + PetscSqr(p[1] - a[1]);
+    if (k[1] >= 0) {
+      const PetscReal *b  = &xy[2 * k[1]];
+      PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]);
+      t = l2 > 0 ? PetscMin(1, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2) : 0;
+    } else if (d2 > PetscSqr(1e-9 * (c->m.hi[0] - c->m.lo[0] + c->m.hi[1] - c->m.lo[1]))) continue; /* beyond the chain */
+    PetscCall(VecSetValue(field, c->m.gdof[i], (1 - t) * c->pressure[k[0]] + (k[1] >= 0 ? t * c->pressure[k[1]] : 0), INSERT_VALUES));
+    PetscCall(VecSetValue(field, c->m.gdof[i] + 1, (1 - t) * c->gap[k[0]] + (k[1] >= 0 ? t * c->gap[k[1]] : 0), INSERT_VALUES));
+  }
+  PetscCall(PetscFree2(o, xy));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active)
 {
   PetscMPIInt rank;
-  XYIdx      *o;
-  PetscReal  *xy;
 
   PetscFunctionBeginUser;
   PetscCall(VecSet(active, NAN));
@@ -209,40 +308,16 @@ PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active)
     PetscCall(VecRestoreArray(field, &a));
   }
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
-  if (rank == 0) {
-    for (PetscInt i = 0; i < c->nm.nnode; i++) PetscCall(VecSetValue(active, c->nm.gdof[i], 0.0, INSERT_VALUES));
-    for (PetscInt j = 0; j < c->R.n; j++) {
-      PetscInt g = c->nm.gdof[c->R.node[j]];
-      PetscCall(VecSetValue(field, g, c->pressure[j], INSERT_VALUES));
-      PetscCall(VecSetValue(field, g + 1, c->gap[j], INSERT_VALUES));
-      PetscCall(VecSetValue(active, g, c->active[j] != 0 ? 1.0 : 0.0, INSERT_VALUES));
+  for (PetscInt q = 0; q < c->npair && rank == 0; q++) PetscCall(PairFillMortar(&c->pair[q], field));
+  for (PetscInt q = 0; q < c->npair && rank == 0; q++) { /* after every mortar surface: a node on both sides shows its multiplier */
+    const M2dContactPair *p = &c->pair[q];
+    for (PetscInt i = 0; i < p->nm.nnode; i++) PetscCall(VecSetValue(active, p->nm.gdof[i], 0.0, INSERT_VALUES));
+    for (PetscInt j = 0; j < p->R.n; j++) {
+      PetscInt g = p->nm.gdof[p->R.node[j]];
+      PetscCall(VecSetValue(field, g, p->pressure[j], INSERT_VALUES));
+      PetscCall(VecSetValue(field, g + 1, p->gap[j], INSERT_VALUES));
+      PetscCall(VecSetValue(active, g, p->active[j] != 0 ? 1.0 : 0.0, INSERT_VALUES));
     }
-    /* the mortar surface: the non-mortar values where its node's nearest point
-     * on the chain of multiplier nodes lies, linear between two of them, none
-     * (0 and NaN) beyond its ends */
-    PetscCall(PetscMalloc2(c->R.n + 1, &o, 2 * c->R.n + 1, &xy));
-    for (PetscInt j = 0; j < c->R.n; j++) {
-      o[j].x = xy[2 * j] = c->nm.x[2 * c->R.node[j]];
-      o[j].y = xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
-      o[j].j = j;
-    }
-    qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpX);
-    for (PetscInt i = 0; i < c->m.nnode && c->R.n > 0; i++) {
-      const PetscReal *p = &c->m.x[2 * i], *a;
-      PetscInt         k[2];
-      PetscReal        t = 0, d2;
-      Nearest2(o, c->R.n, xy, p[0], p[1], k);
-      a  = &xy[2 * k[0]];
-      d2 = PetscSqr(p[0] - a[0]) + PetscSqr(p[1] - a[1]);
-      if (k[1] >= 0) {
-        const PetscReal *b  = &xy[2 * k[1]];
-        PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]);
-        t = l2 > 0 ? PetscMin(1, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2) : 0;
-      } else if (d2 > PetscSqr(1e-9 * (c->m.hi[0] - c->m.lo[0] + c->m.hi[1] - c->m.lo[1]))) continue; /* beyond the chain */
-      PetscCall(VecSetValue(field, c->m.gdof[i], (1 - t) * c->pressure[k[0]] + (k[1] >= 0 ? t * c->pressure[k[1]] : 0), INSERT_VALUES));
-      PetscCall(VecSetValue(field, c->m.gdof[i] + 1, (1 - t) * c->gap[k[0]] + (k[1] >= 0 ? t * c->gap[k[1]] : 0), INSERT_VALUES));
-    }
-    PetscCall(PetscFree2(o, xy));
   }
   PetscCall(VecAssemblyBegin(field));
   PetscCall(VecAssemblyEnd(field));
@@ -274,7 +349,8 @@ static PetscBool EdgeSide(const M2dContactState *st, PetscInt a0, PetscInt b, co
   return (PetscBool)(s < PetscMin(L, PetscSqrtReal(best) * p0 * p0 / (p1 * p1 - p0 * p0)));
 }
 
-PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[])
+/* pair c's rows against the previous state of the same pair */
+static PetscErrorCode PairStateMask(const M2dContactState *st, const M2dContactPair *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[])
 {
   XYIdx *o;
 
@@ -305,6 +381,20 @@ PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ContactStateMask(const M2dContactState *st, const M2dContact *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < c->npair; q++) {
+    M2dContactState view = {0};
+    if (q < st->npair) { /* the same pair of the previous mesh */
+      PetscInt o = st->off[q];
+      view.n = st->off[q + 1] - o, view.xy = st->xy + 2 * o, view.active = st->active + o, view.pressure = st->pressure + o, view.gap = st->gap + o;
+    }
+    PetscCall(PairStateMask(&view, &c->pair[q], u, cparam, mask + c->pair[q].off));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* the neighbour of node i along the surface other than `from` (-1: none, or a
  * branch: more than two edges at i) */
 static PetscInt NextNode(const M2dSurface *s, PetscInt i, PetscInt from)
@@ -318,7 +408,7 @@ static PetscInt NextNode(const M2dSurface *s, PetscInt i, PetscInt from)
   return nb;
 }
 
-PetscErrorCode ContactRipple(const M2dContact *c, PetscReal *ripple, PetscInt *ninterior)
+static PetscErrorCode PairRipple(const M2dContactPair *c, PetscReal *ripple, PetscInt *ninterior)
 {
   const M2dSurface *s = &c->nm;
   PetscInt         *mult;
@@ -422,13 +512,29 @@ static void ChainEstimate(const ChainNode *n, PetscInt len, PetscReal *e2, Petsc
     }
 }
 
-PetscErrorCode ContactPressureEstimate(const M2dContact *c, PetscReal *est)
+PetscErrorCode ContactRipple(const M2dContact *c, PetscReal *ripple, PetscInt *ninterior)
+{
+  PetscFunctionBeginUser;
+  *ripple    = 0;
+  *ninterior = 0;
+  for (PetscInt q = 0; q < c->npair; q++) {
+    PetscReal r;
+    PetscInt  n;
+    PetscCall(PairRipple(&c->pair[q], &r, &n));
+    *ripple = PetscMax(*ripple, r);
+    *ninterior += n;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* one pair's squared error and norm, added to e2 and n2 */
+static PetscErrorCode PairPressureEstimate(const M2dContactPair *c, PetscReal *e2p, PetscReal *n2p)
 {
   const M2dSurface *s = &c->nm;
   PetscInt         *mult, *deg, *chain;
   PetscBool        *seen;
   ChainNode        *cn;
-  PetscReal         e2 = 0, n2 = 0;
+  PetscReal         e2 = *e2p, n2 = *n2p;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc5(s->nnode + 1, &mult, s->nnode + 1, &deg, s->nnode + 1, &chain, s->nnode + 1, &seen, s->nnode + 1, &cn));
@@ -450,50 +556,74 @@ PetscErrorCode ContactPressureEstimate(const M2dContact *c, PetscReal *est)
       }
       ChainEstimate(cn, len, &e2, &n2);
     }
-  *est = n2 > 0 ? PetscSqrtReal(e2 / n2) : 0;
+  *e2p = e2, *n2p = n2;
   PetscCall(PetscFree5(mult, deg, chain, seen, cn));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactPressureEstimate(const M2dContact *c, PetscReal *est)
+{
+  PetscReal e2 = 0, n2 = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < c->npair; q++) PetscCall(PairPressureEstimate(&c->pair[q], &e2, &n2));
+  *est = n2 > 0 ? PetscSqrtReal(e2 / n2) : 0;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u)
 {
-  M2dSurface *sf[2] = {&c->nm, &c->m};
-
   PetscFunctionBeginUser;
   for (PetscInt j = 0; j < c->R.n; j++) {
     c->pressure[j] *= u->S;
     c->gap[j] *= u->U;
     c->R.w[j] *= u->L;
   }
-  for (int d = 0; d < 2; d++) c->force[d] *= u->S * u->L;
-  c->force_n *= u->S * u->L;
-  for (int k = 0; k < 2; k++)
-    for (PetscInt i = 0; i < 2 * sf[k]->nnode; i++) sf[k]->x[i] *= u->L;
+  for (PetscInt q = 0; q < c->npair; q++) {
+    M2dContactPair *p     = &c->pair[q];
+    M2dSurface     *sf[2] = {&p->nm, &p->m};
+    for (PetscInt j = 0; j < p->R.n; j++) p->R.w[j] *= u->L;
+    for (int d = 0; d < 2; d++) p->force[d] *= u->S * u->L;
+    p->force_n *= u->S * u->L;
+    for (int k = 0; k < 2; k++)
+      for (PetscInt i = 0; i < 2 * sf[k]->nnode; i++) sf[k]->x[i] *= u->L;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactPairDestroy(M2dContactPair *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SurfaceDestroy(&p->nm));
+  PetscCall(SurfaceDestroy(&p->m));
+  PetscCall(SegmentSetDestroy(&p->seg));
+  PetscCall(ContactRowsDestroy(&p->R));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ContactDestroy(M2dContact *c)
 {
   PetscFunctionBeginUser;
-  PetscCall(SurfaceDestroy(&c->nm));
-  PetscCall(SurfaceDestroy(&c->m));
-  PetscCall(SegmentSetDestroy(&c->seg));
+  for (PetscInt q = 0; q < c->npair; q++) PetscCall(ContactPairDestroy(&c->pair[q]));
+  PetscCall(PetscFree(c->pair));
+  PetscCall(PetscFree(c->rowpair));
   PetscCall(ContactRowsDestroy(&c->R));
   PetscCall(PetscFree3(c->pressure, c->gap, c->active));
+  c->npair = 0;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ContactHertz(const M2dContact *c, const M2dScene *s, M2dHertzResult *h)
+PetscErrorCode ContactHertz(const M2dContactPair *c, const M2dScene *s, M2dHertzResult *h)
 {
   XYIdx    *o;
-  PetscReal *px, inv = 0, Es, P = s->hertz_load, R = s->hertz_radius, num = 0, den = 0;
-  PetscInt  n = c->R.n, last = -1;
+  PetscReal *px, inv = 0, Es, P = s->hertz_load, R = c->def->hertz_radius, num = 0, den = 0;
+  PetscInt  n = c->R.n, last = -1, b[2] = {c->nm.body, c->m.body};
   const int ns = 3000;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(h, sizeof(*h)));
-  for (PetscInt k = 0; k < s->nbody; k++) inv += (s->plane == M2D_PLANE_STRAIN ? 1 - s->body[k].nu * s->body[k].nu : 1.0) / s->body[k].E;
-  PetscCheck(s->nbody == 2, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -hertz: needs exactly two bodies");
+  PetscCheck(b[0] >= 0 && b[1] >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -hertz: %s: a surface without its body", c->def->what);
+  for (PetscInt k = 0; k < 2; k++) inv += (s->plane == M2D_PLANE_STRAIN ? 1 - s->body[b[k]].nu * s->body[b[k]].nu : 1.0) / s->body[b[k]].E; /* the pair's two bodies */
   Es    = 1.0 / inv;
   h->a  = PetscSqrtReal(4 * P * R / (PETSC_PI * Es));
   h->p0 = 2 * P / (PETSC_PI * h->a);

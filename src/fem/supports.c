@@ -116,28 +116,31 @@ PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dF
 /* the contact rows selected by active, applied to the rigid modes */
 static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *ct, const PetscScalar *active, PetscReal *G)
 {
-  const M2dSurface *sf[2] = {&ct->nm, &ct->m};
-  PetscInt          n     = 3 * sup->nbody;
+  PetscInt n = 3 * sup->nbody;
 
   PetscFunctionBeginUser;
-  for (PetscInt j = 0; j < ct->R.n; j++) {
-    PetscReal g[MAXM] = {0};
-    if (active && PetscRealPart(active[j]) == 0) continue;
-    for (PetscInt k = ct->R.ptr[j]; k < ct->R.ptr[j + 1]; k++) {
-      PetscInt col = ct->R.col[k], d = col % 2, base = col - d;
-      for (int q = 0; q < 2; q++) {
-        PetscInt i;
-        PetscCall(PetscFindInt(base, sf[q]->nnode, sf[q]->gdof, &i));
-        if (i >= 0) {
-          PetscReal r[3];
-          PetscInt  b = sf[q]->body;
-          Modes(sup, b, &sf[q]->x[2 * i], d, r);
-          for (int t = 0; t < 3; t++) g[3 * b + t] += ct->R.val[k] * r[t];
-          break;
+  for (PetscInt p = 0; p < ct->npair; p++) { /* every pair: a body held only by contacts is held by all of them together */
+    const M2dContactPair *cp    = &ct->pair[p];
+    const M2dSurface     *sf[2] = {&cp->nm, &cp->m};
+    for (PetscInt j = 0; j < cp->R.n; j++) {
+      PetscReal g[MAXM] = {0};
+      if (active && PetscRealPart(active[cp->off + j]) == 0) continue;
+      for (PetscInt k = cp->R.ptr[j]; k < cp->R.ptr[j + 1]; k++) {
+        PetscInt col = cp->R.col[k], d = col % 2, base = col - d;
+        for (int q = 0; q < 2; q++) {
+          PetscInt i;
+          PetscCall(PetscFindInt(base, sf[q]->nnode, sf[q]->gdof, &i));
+          if (i >= 0) {
+            PetscReal r[3];
+            PetscInt  b = sf[q]->body;
+            Modes(sup, b, &sf[q]->x[2 * i], d, r);
+            for (int t = 0; t < 3; t++) g[3 * b + t] += cp->R.val[k] * r[t];
+            break;
+          }
         }
       }
+      AddRow(G, n, g);
     }
-    AddRow(G, n, g);
   }
   PetscFunctionReturn(0);
 }

@@ -322,17 +322,21 @@ PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], Pets
 static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
   PetscMPIInt rank;
-  MshMesh     msh[2];
+  MshMesh     msh[M2D_MAX_MESH];
   MeshSources src;
-  char        label[2][PETSC_MAX_PATH_LEN + 32], all[2 * PETSC_MAX_PATH_LEN + 8], err[M2D_ERR_LEN] = "";
-  const char *lp[2] = {label[0], label[1]};
+  char        label[M2D_MAX_MESH][PETSC_MAX_PATH_LEN + 32], all[M2D_MAX_MESH * (PETSC_MAX_PATH_LEN + 2)] = "", err[M2D_ERR_LEN] = "";
+  const char *lp[M2D_MAX_MESH];
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscMemzero(msh, sizeof(msh)));
-  PetscCall(PetscSNPrintf(all, sizeof(all), "%s%s%s", s->mesh[0], s->nmesh > 1 ? ", " : "", s->nmesh > 1 ? s->mesh[1] : ""));
-  for (PetscInt f = 0; f < s->nmesh; f++) PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
+  for (PetscInt f = 0; f < s->nmesh; f++) {
+    if (f) PetscCall(PetscStrlcat(all, ", ", sizeof(all)));
+    PetscCall(PetscStrlcat(all, s->mesh[f], sizeof(all)));
+    PetscCall(PetscSNPrintf(label[f], sizeof(label[f]), "mesh file '%s'", s->mesh[f]));
+    lp[f] = label[f];
+  }
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   for (PetscInt f = 0; f < s->nmesh && rank == 0 && !err[0]; f++) {
     if (MeshIsHDF5(s->mesh[f])) MeshReadHDF5(s->mesh[f], &msh[f], err, sizeof(err));
@@ -340,14 +344,14 @@ static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   }
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_READ], 0, 0, 0, 0));
   if (err[0])
-    for (int f = 0; f < 2; f++) MshFree(&msh[f]);
+    for (int f = 0; f < M2D_MAX_MESH; f++) MshFree(&msh[f]);
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
   src.msh   = msh;
   src.nmsh  = rank == 0 ? s->nmesh : 0;
   src.label = lp;
   src.all   = all;
   ierr      = MeshBuild(comm, s, &src, m);
-  for (int f = 0; f < 2; f++) MshFree(&msh[f]);
+  for (int f = 0; f < M2D_MAX_MESH; f++) MshFree(&msh[f]);
   PetscCall(ierr);
   PetscFunctionReturn(0);
 }
@@ -361,7 +365,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(M2dLogRegister());
   PetscCall(MeshReadOptions(comm, save, sizeof(save)));
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
-  PetscCheck(s->nmesh == 1 || (!MeshIsHDF5(s->mesh[0]) && !MeshIsHDF5(s->mesh[1])), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, %s)", s->mesh[0], s->mesh[1]);
+  for (PetscInt f = 0; f < s->nmesh && s->nmesh > 1; f++) PetscCheck(!MeshIsHDF5(s->mesh[f]), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, with %" PetscInt_FMT " other file%s)", s->mesh[f], s->nmesh - 1, s->nmesh > 2 ? "s" : "");
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   PetscCall(CreateFromFiles(comm, s, m));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));

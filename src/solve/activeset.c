@@ -6,7 +6,8 @@
 #include "activeset_paths.h"
 #include "optcheck.h"
 
-PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
+/* one pair's c: E* / h^2, E* of its two bodies, h its mean non-mortar edge */
+static PetscReal PairC(const M2dScene *s, const M2dContactPair *ct)
 {
   PetscReal inv = 0, h = 0;
   PetscInt  b[2] = {ct->nm.body, ct->m.body};
@@ -18,6 +19,14 @@ PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
   for (PetscInt e = 0; e < ct->nm.nedge; e++) h += ct->nm.len[e];
   h /= PetscMax(1, ct->nm.nedge);
   return (1.0 / inv) / (h * h);
+}
+
+/* the largest pair's */
+PetscReal ActiveSetDefaultC(const M2dScene *s, const M2dContact *ct)
+{
+  PetscReal c = 0;
+  for (PetscInt k = 0; k < ct->npair; k++) c = PetscMax(c, PairC(s, &ct->pair[k]));
+  return c;
 }
 
 /* Converged: the set is unchanged and the residual at tolerance. A set solved
@@ -95,8 +104,14 @@ static PetscErrorCode ContextCreate(M2dProblem *pb, Vec u, Vec lam, Vec active, 
   as->c               = pb->s.contact_c_set ? pb->s.contact_c : ActiveSetDefaultC(&pb->s, ct);
   as->monitor         = pb->s.contact_monitor;
   as->hist.max_cycles = 5;
-  for (PetscInt e = 0; e < ct->nm.nedge; e++) as->h += ct->nm.len[e];
-  as->h /= PetscMax(1, ct->nm.nedge);
+  {
+    PetscInt ne = 0;
+    for (PetscInt k = 0; k < ct->npair; k++) {
+      for (PetscInt e = 0; e < ct->pair[k].nm.nedge; e++) as->h += ct->pair[k].nm.len[e];
+      ne += ct->pair[k].nm.nedge;
+    }
+    as->h /= PetscMax(1, ne);
+  }
   PetscCall(VecDuplicate(u, &as->u));
   PetscCall(VecDuplicate(lam, &as->lam));
   PetscCall(VecDuplicate(lam, &as->gm));
@@ -175,26 +190,31 @@ static PetscErrorCode InitialMultipliers(M2dActiveSet *as, Vec z)
   const M2dContact  *ct = &as->pb->contact;
   const PetscScalar *r;
   PetscScalar       *l;
-  PetscInt           lo, hi, how = as->pb->s.contact_initial;
-  PetscReal          gmin = PETSC_MAX_REAL, L;
+  PetscInt           lo, hi, how = as->pb->s.contact_initial, np = ct->npair;
+  PetscReal          gmin[M2D_MAX_PAIRS], L[M2D_MAX_PAIRS];
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(z));
   PetscCall(VecZeroEntries(as->lam));
   if (how == 0 && !as->pb->warm && !as->vi) PetscFunctionReturn(0); /* VI: at least the closest nodes (below) */
-  L = PetscSqrtReal(PetscSqr(ct->m.hi[0] - ct->m.lo[0]) + PetscSqr(ct->m.hi[1] - ct->m.lo[1])) * as->pb->units.L / as->pb->units.U;
+  for (PetscInt k = 0; k < np; k++) { /* each pair's closest nodes: every body held from the first step */
+    const M2dSurface *m = &ct->pair[k].m;
+    L[k]    = PetscSqrtReal(PetscSqr(m->hi[0] - m->lo[0]) + PetscSqr(m->hi[1] - m->lo[1])) * as->pb->units.L / as->pb->units.U;
+    gmin[k] = PETSC_MAX_REAL;
+  }
   PetscCall(VecGetOwnershipRange(as->kkt->r, &lo, &hi));
   PetscCall(VecGetArrayRead(as->kkt->r, &r));
-  for (PetscInt j = lo; j < hi; j++) gmin = PetscMin(gmin, PetscRealPart(r[j - lo]) / ct->R.w[j]);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &gmin, 1, MPIU_REAL, MPIU_MIN, PetscObjectComm((PetscObject)z)));
+  for (PetscInt j = lo; j < hi; j++) gmin[ct->rowpair[j]] = PetscMin(gmin[ct->rowpair[j]], PetscRealPart(r[j - lo]) / ct->R.w[j]);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gmin, (PetscMPIInt)np, MPIU_REAL, MPIU_MIN, PetscObjectComm((PetscObject)z)));
   PetscCall(VecGetArray(as->lam, &l));
   for (PetscInt j = lo; j < hi; j++) {
     PetscReal g = PetscRealPart(r[j - lo]);
-    PetscBool on = as->pb->warm ? as->pb->warm[j] : (PetscBool)(how == 2 || g / ct->R.w[j] <= gmin + 1e-6 * L);
+    PetscInt  k = ct->rowpair[j];
+    PetscBool on = as->pb->warm ? as->pb->warm[j] : (PetscBool)(how == 2 || g / ct->R.w[j] <= gmin[k] + 1e-6 * L[k]);
     /* the VI solver fixes a multiplier at its bound 0 while the gap is open:
      * a positive start keeps the first set's rows (a body held only by the
      * contact would otherwise be free in the first step) */
-    l[j - lo] = on ? as->c * PetscMax(g, as->vi ? 1e-6 * L * ct->R.w[j] : 0) : 0;
+    l[j - lo] = on ? as->c * PetscMax(g, as->vi ? 1e-6 * L[k] * ct->R.w[j] : 0) : 0;
   }
   PetscCall(VecRestoreArray(as->lam, &l));
   PetscCall(VecRestoreArrayRead(as->kkt->r, &r));

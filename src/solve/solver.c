@@ -11,8 +11,11 @@
 static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
 {
   PetscFunctionBeginUser;
-  if (!s->contact_nm[0]) PetscFunctionReturn(0);
-  PetscCheck(!(s->method == M2D_CONTACT_MORTAR && s->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)");
+  if (!s->npair) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < s->npair; k++) { /* every pair's own method */
+    const M2dPair *p = &s->pair[k];
+    PetscCheck(!(p->method == M2D_CONTACT_MORTAR && p->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)%s%s", p->own_method ? "; " : "", p->own_method ? p->what : "");
+  }
   PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
   PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
   s->kkt_mat = M2D_KKT_NEST; /* the blocks are enough: no monolithic copy */
@@ -28,7 +31,11 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
   PetscFunctionBeginUser;
   *path = M2D_PATH_CONDENSED;
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
-  if (m && !given) PetscCall(MeshGroupSize(m, s->contact_nm, "-contact_nonmortar", &n)); /* its edges */
+  for (PetscInt k = 0; m && !given && k < s->npair; k++) { /* every pair's non-mortar edges */
+    PetscInt nk;
+    PetscCall(MeshGroupSize(m, s->pair[k].nm, s->contact_nm[0] ? "-contact_nonmortar" : "-contact_pairs", &nk));
+    n += nk;
+  }
   if (n > s->kkt_condensed_max) {
     *path = M2D_PATH_FULL;
     PetscCall(PetscPrintf(comm, "active set: -kkt_path full (%" PetscInt_FMT " non-mortar edges, more than -kkt_condensed_max %" PetscInt_FMT ": the condensed path's dense interface would cost O(N^3) a step)\n", n, s->kkt_condensed_max));
@@ -64,7 +71,7 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m,
   PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
   vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
   if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(CheckIterative(comm, s, vi));
-  if (!s->contact_nm[0]) *path = M2D_PATH_LINEAR;
+  if (!s->npair) *path = M2D_PATH_LINEAR;
   else if (!s->unilateral) *path = M2D_PATH_TIED;
   else if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) *path = M2D_PATH_ITERATIVE;
   else if (s->kkt_path == M2D_KKT_PATH_FULL) *path = M2D_PATH_FULL;

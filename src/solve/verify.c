@@ -124,7 +124,7 @@ PetscErrorCode M2dVerifyStrain(const M2dProblem *pb, Vec u, M2dVerification *v)
 }
 
 /* u at both surfaces' nodes, on every rank: 2 per node, non-mortar then mortar */
-static PetscErrorCode SurfaceDisplacements(const M2dContact *ct, Vec u, Vec *useq)
+static PetscErrorCode SurfaceDisplacements(const M2dContactPair *ct, Vec u, Vec *useq)
 {
   PetscInt   n = ct->nm.nnode + ct->m.nnode, *idx;
   IS         is;
@@ -144,9 +144,8 @@ static PetscErrorCode SurfaceDisplacements(const M2dContact *ct, Vec u, Vec *use
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dVerifyReach(const M2dProblem *pb, Vec u)
+static PetscErrorCode PairVerifyReach(const M2dProblem *pb, const M2dContactPair *ct, Vec u)
 {
-  const M2dContact  *ct = &pb->contact;
   const M2dSurface  *nm = &ct->nm, *m = &ct->m;
   const PetscReal    L = pb->units.L, U = pb->units.U;
   PetscBool         *held;
@@ -156,7 +155,6 @@ PetscErrorCode M2dVerifyReach(const M2dProblem *pb, Vec u)
   PetscInt           iworst = -1;
 
   PetscFunctionBeginUser;
-  if (!pb->has_contact) PetscFunctionReturn(0);
   PetscCall(SurfaceDisplacements(ct, u, &useq));
   PetscCall(VecGetArrayRead(useq, &us));
   for (PetscInt k = 0; k < 2 * (nm->nnode + m->nnode); k++) umax = PetscMax(umax, U * PetscAbsReal(PetscRealPart(us[k])));
@@ -189,6 +187,14 @@ PetscErrorCode M2dVerifyReach(const M2dProblem *pb, Vec u)
   PetscCall(PetscFree(held));
   PetscCheck(iworst < 0 || worst >= -M2D_VERIFY_TOL * umax, PetscObjectComm((PetscObject)u), PETSC_ERR_NOT_CONVERGED,
              "the answer fails its contact check: non-mortar node (%g, %g) of '%s' ends %g inside '%s' but carries no multiplier (it lay beyond -contact_reach %g); raise -contact_reach (auto: 0.1 x the mortar surface's extent)",
-             (double)(L * nm->x[2 * iworst]), (double)(L * nm->x[2 * iworst + 1]), pb->s.contact_nm, (double)-worst, pb->s.contact_m, (double)(L * ct->reach));
+             (double)(L * nm->x[2 * iworst]), (double)(L * nm->x[2 * iworst + 1]), ct->def->nm, (double)-worst, ct->def->m, (double)(L * ct->reach));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dVerifyReach(const M2dProblem *pb, Vec u)
+{
+  PetscFunctionBeginUser;
+  if (!pb->has_contact) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < pb->contact.npair; k++) PetscCall(PairVerifyReach(pb, &pb->contact.pair[k], u));
   PetscFunctionReturn(0);
 }
