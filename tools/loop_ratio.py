@@ -8,7 +8,7 @@ runs interleaved (a slow moment of the shared machine touches one round of
 each rather than every round of one), min over --repeat rounds; also the
 cpu seconds (user + system of the process and its children, gmsh's included)
 and the median walls. Every variant (--variant NAME:ARGS, ARGS appended to
-hertz_adapt.opts; --exe2 PATH runs hertz_adapt.opts with another build too)
+hertz_adapt.opts; --exe2 PATH runs both with another build too, its ratios printed apart)
 is a further point of the same rounds, printed with its dofs and its pressure
 error against Hertz, so before/after figures come from one stretch of time.
 
@@ -30,14 +30,14 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="rounds (min taken)")
     ap.add_argument("--level", type=int, default=5, help="uniform Hertz level of the reference run")
     ap.add_argument("--out", default=os.path.join(m2d.SRC, "build", "loop_ratio"))
-    ap.add_argument("--exe2", default="", help="another build's mortar2d: hertz_adapt.opts with it as well")
+    ap.add_argument("--exe2", default="", help="another build's mortar2d (e.g. before a change): both runs with it as well")
     ap.add_argument("--variant", action="append", default=[], help="NAME:ARGS, hertz_adapt.opts with ARGS appended")
     a = ap.parse_args()
     uniform = ["-options_file", m2d.opts("hertz"), "-mesh", m2d.hertz_mesh(a.level)]
     adapt = ["-options_file", m2d.opts("hertz_adapt")]
     points = [("uniform_L%d" % a.level, None, uniform), ("hertz_adapt", None, adapt)]
     if a.exe2:
-        points.append(("hertz_adapt[exe2]", os.path.abspath(a.exe2), adapt))
+        points += [("uniform_L%d[exe2]" % a.level, os.path.abspath(a.exe2), uniform), ("hertz_adapt[exe2]", os.path.abspath(a.exe2), adapt)]
     for v in a.variant:
         name, _, extra = v.partition(":")
         points.append((name, None, adapt + extra.split()))
@@ -64,7 +64,10 @@ def main():
         r = res[name]
         print("| %s | %d | %.3e | %.3f | %.3f | %.3f | 1/%.1f |" % (name, r["s"]["dofs"], r["s"].get("pressure_l2_rel", float("nan")), min(r["wall"]), statistics.median(r["wall"]),
                                                            min(r["cpu"]), min(ref["wall"]) / min(r["wall"])))
-    print("\nratio hertz_adapt / uniform L%d (min walls): %.4f = 1/%.1f" % (a.level, min(res["hertz_adapt"]["wall"]) / min(ref["wall"]), min(ref["wall"]) / min(res["hertz_adapt"]["wall"])))
+    for tag in ("", "[exe2]") if a.exe2 else ("",):
+        u, h = res["uniform_L%d%s" % (a.level, tag)], res["hertz_adapt" + tag]
+        print("\nratio hertz_adapt / uniform L%d%s: wall (min) 1/%.1f, wall (median) 1/%.1f, cpu (min) 1/%.1f" % (a.level, " with " + a.exe2 if tag else "", min(u["wall"]) / min(h["wall"]),
+              statistics.median(u["wall"]) / statistics.median(h["wall"]), min(u["cpu"]) / min(h["cpu"])))
 
 
 if __name__ == "__main__":
