@@ -95,19 +95,12 @@ static PetscErrorCode Run(MPI_Comm comm)
 /* A run started without mpiexec is an Open MPI singleton: one rank that talks
  * to no other process, yet Open MPI's default point-to-point layer first
  * probes the network libraries (UCX) at MPI_Init. The ob1 layer (shared
- * memory and self) starts faster. And a singleton starts a daemon of its own
- * (orted, through fork and exec, then a PMIx handshake) which only
- * MPI_Comm_spawn and name publishing need, and the program uses neither:
- * ess_singleton_isolated skips it (Open MPI 4.1.4 here: MPI_Init 0.7 s ->
- * 0.2 s of wall time on the loaded 2-core machine, 0.03 s of cpu either
- * way). Only when no launcher started the process and the user has not
- * chosen (OMPI_MCA_pml, OMPI_MCA_ess_singleton_isolated); other MPIs ignore
- * the variables. */
+ * memory and self) starts faster. Only when no launcher started the process
+ * and the user has not chosen (OMPI_MCA_pml); other MPIs ignore the variable. */
 static void SingletonMPIDefaults(void)
 {
   if (getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE")) return;
   (void)setenv("OMPI_MCA_pml", "ob1", 0);
-  (void)setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
 }
 
 int main(int argc, char **argv)
