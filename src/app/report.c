@@ -3,6 +3,7 @@
 #include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
+#include "method.h"
 #include "logging.h"
 #include "options.h"
 #include "util.h"
@@ -89,7 +90,7 @@ static PetscErrorCode SummarizePairs(const M2dProblem *pb, M2dSummary *sum)
     for (PetscInt j = 0; j < p->R.n; j++) na += p->active[j] != 0;
     PetscCall(M2dSummaryListString(sum, "pairs", k, "nonmortar", p->def->nm));
     PetscCall(M2dSummaryListString(sum, "pairs", k, "mortar", p->def->m));
-    PetscCall(M2dSummaryListString(sum, "pairs", k, "method", p->method == M2D_CONTACT_NTS ? "nts" : p->basis == M2D_MORTAR_DUAL ? "mortar dual" : "mortar standard"));
+    PetscCall(M2dSummaryListString(sum, "pairs", k, "method", M2dMethodOf(p->method, p->basis)->name));
     PetscCall(M2dSummaryListInt(sum, "pairs", k, "contact_nodes", p->R.n));
     PetscCall(M2dSummaryListInt(sum, "pairs", k, "active_nodes", na));
     PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force", p->force_n));
@@ -112,7 +113,7 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < c->npair && pb->s.hertz; k++) PetscCall(SummarizeHertz(pb, k, fig, sum));
   PetscCall(ContactToUserUnits(c, &pb->units));
-  SummaryString(sum, "", "method", c0->method == M2D_CONTACT_MORTAR ? "mortar" : "nts");
+  SummaryString(sum, "", "method", M2dMethodOf(c0->method, c0->basis)->family);
   SummaryInt(sum, "", "contact_nodes", c->R.n);
   SummaryReal(sum, "", "contact_force", c0->force_n);
   SummaryReal(sum, "", "contact_force_x", c0->force[0]);

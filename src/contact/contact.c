@@ -1,5 +1,6 @@
 /* contact.c - set up the contact pair and report the interface (see contact.h). */
 #include "contact.h"
+#include "method.h"
 #include "util.h"
 
 typedef struct {
@@ -52,12 +53,12 @@ static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L
   PetscCheck(c->nm.body < 0 || c->nm.body != c->m.body, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", c->def->what, s->body[c->nm.body].name);
   c->reach = s->reach;
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
-  if (c->method == M2D_CONTACT_MORTAR) {
+  if (M2dMethodOf(c->method, c->basis)->segments) {
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
   if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));
-  PetscCall(PetscPrintf(comm, "contact%s: %s%s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->npair > 1 ? " pair" : "", c->method == M2D_CONTACT_MORTAR ? "mortar" : "node-to-segment", c->method == M2D_CONTACT_MORTAR ? (c->basis == M2D_MORTAR_DUAL ? " (dual multipliers)" : " (standard multipliers)") : "", c->def->nm, c->nm.nedge, c->def->m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
+  PetscCall(PetscPrintf(comm, "contact%s: %s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->npair > 1 ? " pair" : "", M2dMethodOf(c->method, c->basis)->printed, c->def->nm, c->nm.nedge, c->def->m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
   PetscFunctionReturn(0);
 }
 

@@ -2,7 +2,7 @@
 #include "solver.h"
 #include "condensed.h"
 #include "iterative.h"
-#include "mortar.h"
+#include "method.h"
 #include "optcheck.h"
 #include <petscsnes.h>
 #include <string.h>
@@ -14,7 +14,7 @@ static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
   if (!s->npair) PetscFunctionReturn(0);
   for (PetscInt k = 0; k < s->npair; k++) { /* every pair's own method */
     const M2dPair *p = &s->pair[k];
-    PetscCheck(!(p->method == M2D_CONTACT_MORTAR && p->basis == M2D_MORTAR_STANDARD), comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)%s%s", p->own_method ? "; " : "", p->own_method ? p->what : "");
+    PetscCheck(M2dMethodOf(p->method, p->basis)->row_own_dof, comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: standard mortar multipliers couple neighbouring nodes and cannot be eliminated row by row; use -mortar_basis dual (or -kkt_path condensed)%s%s", p->own_method ? "; " : "", p->own_method ? p->what : "");
   }
   PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
   PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
