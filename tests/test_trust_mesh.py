@@ -12,7 +12,8 @@ and leaves the input and the previous results as they were.
     in x and y: S2 exact (<= 1e-10), as with two curves.
  4. A body in two pieces (one drawn inside the other, or apart) is refused from
     a .msh and a .geo; a contact curve with an element on the other body is
-    refused from a .msh and a .h5.
+    refused from a .msh and a .h5; one with an element on the far side of its
+    body is exact; one that turns round a corner of its body is refused.
  5. .h5 label indices out of range or of the wrong kind, cone sizes 0 or
     negative, orientations, point numbers: refused, never a hang.
 10. A corrupted .h5 (truncated, bytes flipped) names the file.
@@ -240,6 +241,25 @@ e_other = edge_point(0.3, 0.0, 0.4, 0.0)  # on lower_bottom
 h5o = edited_h5(s2h5, "other_body_upper_bottom.h5", add_edge("m2d:upper_bottom", e_other))
 for ranks in (1, 2):
     refused("item 4: an element of upper_bottom on the other body (.h5)", S2 + ["-mesh", h5o], ["-contact_nonmortar", "'upper_bottom'", "more than one body"], ranks)
+
+# an element of a contact curve on the far side of its own body faces nothing and takes no
+# part: exact; one round a corner of its body (the side edge at the end of the curve) is
+# refused, on either side, from a .msh and a .h5: the node's normal would average the two
+# sides (before: exit 0, stress errors 0.16-0.21)
+for group, opt, far, side in (("lower_top", "-contact_mortar", (1, 2), (55, 66)), ("upper_bottom", "-contact_nonmortar", (1041, 1042), (1008, 1016))):
+    n, q, l, p = s2()
+    l[group] = l[group] + [far]
+    f = write_msh("far_side_%s.msh" % group, n, q, l, p)
+    n, q, l, p = s2()
+    l[group] = l[group] + [side]
+    g = write_msh("corner_%s.msh" % group, n, q, l, p)
+    for ranks in (1, 2):
+        s = solve("trust_mesh/far_%s_%d" % (group, ranks), S2 + ["-mesh", f], ranks)
+        T.check(patch_error(s) < 1e-10, "item 4, %d rank(s): an element of %s on the far side of its body: exact to %.1e" % (ranks, group, patch_error(s)))
+        refused("item 4: %s round the corner of its body (.msh)" % group, S2 + ["-mesh", g], [opt, "'%s'" % group, "turns by 90 degrees at (1"], ranks)
+h5c = edited_h5(s2h5, "corner_upper_bottom.h5", add_edge("m2d:upper_bottom", edge_point(1, 0.5, 1, 0.6)))
+for ranks in (1, 2):
+    refused("item 4: upper_bottom round the corner of its body (.h5)", S2 + ["-mesh", h5c], ["-contact_nonmortar", "'upper_bottom'", "turns by 90 degrees"], ranks)
 
 # ---------------------------------------------------------------- 5, 10. .h5 indices and corruption
 nlab = h5py.File(s2h5, "r")["labels/m2d:upper_top/1/indices"].shape[0]

@@ -19,13 +19,14 @@ typedef struct {
   PetscInt  *n2e_ptr; /* node -> edges (CSR) */
   PetscInt  *n2e;
   PetscReal  lo[2], hi[2]; /* bounding box */
-  PetscInt   body;         /* body index of the surface's cells (-1 if unknown) */
+  PetscInt   body;         /* body index of the surface's cells (-1 if unknown or several) */
 } M2dSurface;
 
 /* Build from plain lists (used by SurfaceGather and by the unit tests). Edges
  * must already be oriented body-on-the-left. Copies the arrays. */
 PetscErrorCode SurfaceCreate(PetscInt nnode, const PetscReal x[], const PetscInt gdof[], PetscInt nedge, const PetscInt edge[], M2dSurface *s);
-/* Gather the edges of physical curve `group` from every rank. */
+/* Gather the edges of physical curve `group` from every rank (a boundary
+ * curve with edges: SceneCheckMesh checks it first). */
 PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *option, M2dSurface *s);
 PetscErrorCode SurfaceDestroy(M2dSurface *s);
 /* outward unit normal at node i: the normals of the edges at i averaged with

@@ -1,53 +1,12 @@
 /* problem.c - the mesh, contact and assembly stages (see problem.h). */
 #include "problem.h"
+#include "scenecheck.h"
 #include "elasticity.h"
 #include "logging.h"
 #include "util.h"
 
 #define M2D_LOCKING_RATIO  48.5 /* lambda/mu just below nu = 0.49 (49) */
 #define M2D_ROUNDOFF_LIMIT 1e-6 /* largest stress round-off (of the load) accepted a priori */
-
-/* a physical group that exists but holds nothing would silently do nothing */
-static PetscErrorCode CheckNotEmpty(MPI_Comm comm, const M2dMesh *m, const char *group, const char *opt)
-{
-  PetscInt n;
-
-  PetscFunctionBeginUser;
-  PetscCall(MeshGroupSize(m, group, opt, &n));
-  PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' of mesh file(s) %s has no elements", opt, group, m->files);
-  PetscFunctionReturn(0);
-}
-
-/* every physical group the options name must exist, before any work is done;
- * what acts through the boundary (loads, contact, u.n and u.t supports, which
- * need its outward normal) must lie on it */
-static PetscErrorCode CheckGroups(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < s->ndir; i++) {
-    PetscInt d = MeshGroupDim(m, s->dir[i].group);
-    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: mesh file(s) %s have no physical group '%s'", m->files, s->dir[i].group);
-    PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: physical group '%s' is a surface; name a curve or a point", s->dir[i].group);
-    /* a point has no normal: G:n and G:t held nothing (before, silently) */
-    PetscCheck(d == 1 || s->dir[i].frame == M2D_BC_XY, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s:%s' needs a curve (its normal), and physical group '%s' is a point; give x, y or xy", s->dir[i].group, s->dir[i].frame == M2D_BC_NORMAL ? "n" : "t", s->dir[i].group);
-    PetscCall(CheckNotEmpty(comm, m, s->dir[i].group, "-dirichlet"));
-    if (s->dir[i].frame != M2D_BC_XY) PetscCall(MeshCheckOnBoundary(m, s, s->dir[i].group, "-dirichlet", "u.n and u.t are taken along the boundary's outward normal"));
-  }
-  for (PetscInt i = 0; i < s->nload; i++) {
-    const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
-    PetscInt    d   = MeshGroupDim(m, s->load[i].group);
-    PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, s->load[i].group);
-    PetscCheck(d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, s->load[i].group);
-    PetscCall(CheckNotEmpty(comm, m, s->load[i].group, opt));
-    PetscCall(MeshCheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
-  }
-  for (PetscInt k = 0; k < s->npair; k++) {
-    PetscBool short_form = (PetscBool)(s->contact_nm[0] != 0);
-    PetscCall(MeshCheckOnBoundary(m, s, s->pair[k].nm, short_form ? "-contact_nonmortar" : "-contact_pairs", "a contact surface is part of the boundary"));
-    PetscCall(MeshCheckOnBoundary(m, s, s->pair[k].m, short_form ? "-contact_mortar" : "-contact_pairs", "a contact surface is part of the boundary"));
-  }
-  PetscFunctionReturn(0);
-}
 
 /* Near-incompressible plane strain: Q4 with full 2x2 integration locks (the
  * answer is wrong, not inaccurate), and whatever the integration, stresses
@@ -83,7 +42,7 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   PetscCall(SceneReadMaterials(comm, user));
   PetscCall(SceneCheckOptions(comm, user)); /* typos of the per-body options */
   PetscCall(CheckMaterials(comm, user));
-  PetscCall(CheckGroups(comm, user, &pb->mesh));
+  PetscCall(SceneCheckMesh(comm, user, &pb->mesh));
   PetscCall(M2dUnitsCreate(&pb->mesh, user, &pb->units));
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, 1.0 / pb->units.L));
   pb->s = *user;

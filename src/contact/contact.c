@@ -50,7 +50,6 @@ static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L
   c->basis  = (M2dMortarBasis)c->def->basis;
   PetscCall(SurfaceGather(m, c->def->nm, short_form ? "-contact_nonmortar" : "-contact_pairs", &c->nm));
   PetscCall(SurfaceGather(m, c->def->m, short_form ? "-contact_mortar" : "-contact_pairs", &c->m));
-  PetscCheck(c->nm.body < 0 || c->nm.body != c->m.body, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", c->def->what, s->body[c->nm.body].name);
   c->reach = s->reach;
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   if (M2dMethodOf(c->method, c->basis)->segments) {

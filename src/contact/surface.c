@@ -210,21 +210,15 @@ PetscErrorCode SurfaceGather(const M2dMesh *m, const char *group, const char *op
 
   PetscFunctionBeginUser;
   PetscCall(MeshGetGroupIS(m, group, option, &is));
-  PetscCheck(MeshGroupDim(m, group) == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", option, group);
   PetscCall(LocalEdges(m, is, &nloc, &rec));
   PetscCall(ISDestroy(&is));
   PetscCall(AllEdges(comm, nloc, rec, &nedge, &all));
   PetscCall(PetscFree(rec));
-  if (nedge == 0) PetscCall(PetscFree(all));
-  PetscCheck(nedge > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' has no edges", option, group);
+  PetscCheck(nedge > 0, comm, PETSC_ERR_PLIB, "option %s: physical group '%s' has no edges (SceneCheckMesh lets none through)", option, group);
   PetscCall(SurfaceFromEdges(nedge, all, s));
   s->body = (PetscInt)all[0].body;
   for (PetscInt e = 1; e < nedge; e++)
-    if ((PetscInt)all[e].body != s->body) {
-      PetscCall(PetscFree(all));
-      PetscCall(SurfaceDestroy(s));
-      SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", option, group);
-    }
+    if ((PetscInt)all[e].body != s->body) s->body = -1;
   PetscCall(PetscFree(all));
   PetscFunctionReturn(0);
 }

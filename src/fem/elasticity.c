@@ -187,7 +187,6 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const M2
     const PetscInt *pts;
     PetscInt        n;
     PetscCall(MeshGetGroupIS(m, ld->group, opt, &is));
-    PetscCheck(MeshGroupDim(m, ld->group) == 1, PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, ld->group);
     PetscCall(ISGetLocalSize(is, &n));
     PetscCall(ISGetIndices(is, &pts));
     for (PetscInt i = 0; i < n; i++) {

@@ -1,0 +1,75 @@
+/* scenecheck.c - the scene checked against its mesh (see scenecheck.h). */
+#include "scenecheck.h"
+#include "surface.h"
+
+/* a group the option names: it exists, has dimension `dim` (1: a curve; 2:
+ * up to a curve: a point or a curve) and holds elements */
+static PetscErrorCode CheckGroup(MPI_Comm comm, const M2dMesh *m, const char *group, const char *opt, PetscInt dim)
+{
+  PetscInt d = MeshGroupDim(m, group), n;
+
+  PetscFunctionBeginUser;
+  PetscCheck(d >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: mesh file(s) %s have no physical group '%s'", opt, m->files, group);
+  PetscCheck(dim != 1 || d == 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is not a curve", opt, group);
+  PetscCheck(d <= 1, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' is a surface; name a curve or a point", opt, group);
+  PetscCall(MeshGroupSize(m, group, opt, &n)); /* a group that holds nothing would silently do nothing */
+  PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical group '%s' of mesh file(s) %s has no elements", opt, group, m->files);
+  PetscFunctionReturn(0);
+}
+
+/* one side of a contact pair: a boundary curve on one body without a corner;
+ * its body in *body */
+static PetscErrorCode CheckContactSide(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, const char *group, const char *opt, PetscInt *body)
+{
+  M2dSurface sf;
+  PetscReal  cmin = PetscCosReal(M2D_CONTACT_MAX_TURN * PETSC_PI / 180), worst = 1;
+  PetscInt   at = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(CheckGroup(comm, m, group, opt, 1));
+  PetscCall(MeshCheckOnBoundary(m, s, group, opt, "a contact surface is part of the boundary"));
+  PetscCall(SurfaceGather(m, group, opt, &sf));
+  *body = sf.body;
+  for (PetscInt i = 0; i < sf.nnode; i++) { /* the turn between the two edges at a node: the angle of their normals */
+    const PetscInt *e = &sf.n2e[sf.n2e_ptr[i]];
+    PetscReal       c;
+    if (sf.n2e_ptr[i + 1] - sf.n2e_ptr[i] != 2) continue;
+    c = sf.normal[2 * e[0]] * sf.normal[2 * e[1]] + sf.normal[2 * e[0] + 1] * sf.normal[2 * e[1] + 1];
+    if (c < worst) worst = c, at = i;
+  }
+  if (*body < 0 || worst < cmin) {
+    PetscReal x = at >= 0 ? sf.x[2 * at] : 0, y = at >= 0 ? sf.x[2 * at + 1] : 0, deg = PetscAcosReal(PetscMax(-1, worst)) * 180 / PETSC_PI;
+    PetscCall(SurfaceDestroy(&sf));
+    PetscCheck(*body >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", opt, group);
+    SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' turns by %.0f degrees at (%g, %g), more than %.0f: a contact surface's normal at a node averages its two edges' normals, which a corner makes wrong; end the curve at the corner (a part that may touch something else: a pair of its own in -contact_pairs) or round the corner", opt, group, (double)deg, (double)x, (double)y, (double)M2D_CONTACT_MAX_TURN);
+  }
+  PetscCall(SurfaceDestroy(&sf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
+{
+  PetscBool short_form = (PetscBool)(s->contact_nm[0] != 0);
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < s->ndir; i++) {
+    const M2dDirichlet *bc = &s->dir[i];
+    PetscCall(CheckGroup(comm, m, bc->group, "-dirichlet", 2));
+    /* a point has no normal: G:n and G:t would hold nothing */
+    PetscCheck(MeshGroupDim(m, bc->group) == 1 || bc->frame == M2D_BC_XY, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s:%s' needs a curve (its normal), and physical group '%s' is a point; give x, y or xy", bc->group, bc->frame == M2D_BC_NORMAL ? "n" : "t", bc->group);
+    if (bc->frame != M2D_BC_XY) PetscCall(MeshCheckOnBoundary(m, s, bc->group, "-dirichlet", "u.n and u.t are taken along the boundary's outward normal"));
+  }
+  for (PetscInt i = 0; i < s->nload; i++) {
+    const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
+    PetscCall(CheckGroup(comm, m, s->load[i].group, opt, 1));
+    PetscCall(MeshCheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
+  }
+  for (PetscInt k = 0; k < s->npair; k++) {
+    const M2dPair *p = &s->pair[k];
+    PetscInt             bnm, bm;
+    PetscCall(CheckContactSide(comm, s, m, p->nm, short_form ? "-contact_nonmortar" : "-contact_pairs", &bnm));
+    PetscCall(CheckContactSide(comm, s, m, p->m, short_form ? "-contact_mortar" : "-contact_pairs", &bm));
+    PetscCheck(bnm != bm, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", p->what, s->body[bnm].name);
+  }
+  PetscFunctionReturn(0);
+}
