@@ -56,6 +56,13 @@ CONFIGS = {
     "gs-pmis-st0.25": [H + "relax_type_down", "SOR/Jacobi", H + "relax_type_up", "backward-SOR/Jacobi", H + "coarsen_type", "PMIS", H + "strong_threshold", "0.25"],
     "gs-pmax2": [H + "relax_type_down", "SOR/Jacobi", H + "relax_type_up", "backward-SOR/Jacobi", H + "P_max", "2"],
     "gs-l1": [H + "relax_type_down", "l1-Gauss-Seidel", H + "relax_type_up", "backward-l1-Gauss-Seidel"],
+    # systems AMG: nodal coarsening (2 unknowns a node), interpolation that keeps the rigid-body modes
+    "nodal": [H + "nodal_coarsen", "4", H + "nodal_coarsen_diag", "1"],
+    "vec": [H + "nodal_coarsen", "4", H + "nodal_coarsen_diag", "1", H + "vec_interp_variant", "2", H + "vec_interp_qmax", "4",
+            H + "vec_interp_smooth", "1", H + "interp_refine", "1"],
+    "vec-noagg": [H + "nodal_coarsen", "4", H + "nodal_coarsen_diag", "1", H + "vec_interp_variant", "2", H + "vec_interp_qmax", "4",
+                  H + "vec_interp_smooth", "1", H + "interp_refine", "1", H + "agg_nl", "0"],
+    "vec1": [H + "nodal_coarsen", "4", H + "nodal_coarsen_diag", "1", H + "vec_interp_variant", "1"],
 }
 
 
