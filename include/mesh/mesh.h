@@ -62,11 +62,6 @@ PetscInt       MeshGroupDim(const M2dMesh *m, const char *name);
  * of a group: edges for curves, vertices for points; the caller destroys *is.
  * Errors with a message naming `option` if the group does not exist. */
 PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *option, IS *is);
-/* Not collective (the same on every rank). Refuses a physical curve `name`
- * with an edge inside the mesh (of two cells): one line naming `option`, the
- * curve, the body (or the two bodies) and the edge, then `why` (the boundary's role, e.g. "loads
- * act on the boundary"). A group the mesh lacks is left to the other checks. */
-PetscErrorCode MeshCheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why);
 /* Collective. The number of points of a group (its local points summed over
  * the ranks); the same errors as MeshGetGroupIS. */
 PetscErrorCode MeshGroupSize(const M2dMesh *m, const char *name, const char *option, PetscInt *n);

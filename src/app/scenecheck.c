@@ -1,6 +1,27 @@
 /* scenecheck.c - the scene checked against its mesh (see scenecheck.h). */
 #include "scenecheck.h"
 #include "surface.h"
+#include <string.h>
+
+/* a physical curve `name` with an edge inside the mesh (of two cells, found
+ * when the mesh was read: M2dMesh.inner) is refused: one line naming
+ * `option`, the curve, the body (or the two bodies) and the edge, then `why`
+ * (the boundary's role). Not collective (the same on every rank). */
+static PetscErrorCode CheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt g = 0; g < m->ngroup; g++) {
+    const M2dGroupInner *in = &m->inner[g];
+    const char          *b[2];
+    char                 where[2 * M2D_NAME_LEN + 64];
+    if (strcmp(m->group[g], name) || !in->n) continue;
+    for (int k = 0; k < 2; k++) b[k] = in->body[k] >= 0 && in->body[k] < s->nbody ? s->body[in->body[k]].name : "?";
+    if (in->body[0] == in->body[1]) PetscCall(PetscSNPrintf(where, sizeof(where), "inside body '%s'", b[0]));
+    else PetscCall(PetscSNPrintf(where, sizeof(where), "between bodies '%s' and '%s', which share its nodes", b[0], b[1]));
+    SETERRQ(PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' has %" PetscInt_FMT " edge%s %s (the first from (%g, %g) to (%g, %g), between two cells): %s", option, name, in->n, in->n > 1 ? "s" : "", where, (double)in->xy[0], (double)in->xy[1], (double)in->xy[2], (double)in->xy[3], why);
+  }
+  PetscFunctionReturn(0);
+}
 
 /* a group the option names: it exists, has dimension `dim` (1: a curve; 2:
  * up to a curve: a point or a curve) and holds elements */
@@ -27,7 +48,7 @@ static PetscErrorCode CheckContactSide(MPI_Comm comm, const M2dScene *s, const M
 
   PetscFunctionBeginUser;
   PetscCall(CheckGroup(comm, m, group, opt, 1));
-  PetscCall(MeshCheckOnBoundary(m, s, group, opt, "a contact surface is part of the boundary"));
+  PetscCall(CheckOnBoundary(m, s, group, opt, "a contact surface is part of the boundary"));
   PetscCall(SurfaceGather(m, group, opt, &sf));
   *body = sf.body;
   for (PetscInt i = 0; i < sf.nnode; i++) { /* the turn between the two edges at a node: the angle of their normals */
@@ -57,12 +78,12 @@ PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m
     PetscCall(CheckGroup(comm, m, bc->group, "-dirichlet", 2));
     /* a point has no normal: G:n and G:t would hold nothing */
     PetscCheck(MeshGroupDim(m, bc->group) == 1 || bc->frame == M2D_BC_XY, comm, PETSC_ERR_USER_INPUT, "option -dirichlet: '%s:%s' needs a curve (its normal), and physical group '%s' is a point; give x, y or xy", bc->group, bc->frame == M2D_BC_NORMAL ? "n" : "t", bc->group);
-    if (bc->frame != M2D_BC_XY) PetscCall(MeshCheckOnBoundary(m, s, bc->group, "-dirichlet", "u.n and u.t are taken along the boundary's outward normal"));
+    if (bc->frame != M2D_BC_XY) PetscCall(CheckOnBoundary(m, s, bc->group, "-dirichlet", "u.n and u.t are taken along the boundary's outward normal"));
   }
   for (PetscInt i = 0; i < s->nload; i++) {
     const char *opt = s->load[i].is_pressure ? "-pressure" : "-traction";
     PetscCall(CheckGroup(comm, m, s->load[i].group, opt, 1));
-    PetscCall(MeshCheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
+    PetscCall(CheckOnBoundary(m, s, s->load[i].group, opt, "a load acts on the boundary"));
   }
   for (PetscInt k = 0; k < s->npair; k++) {
     const M2dPair *p = &s->pair[k];

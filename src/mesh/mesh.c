@@ -403,22 +403,6 @@ PetscErrorCode MeshGetGroupIS(const M2dMesh *m, const char *name, const char *op
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCheckOnBoundary(const M2dMesh *m, const M2dScene *s, const char *name, const char *option, const char *why)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt g = 0; g < m->ngroup; g++) {
-    const M2dGroupInner *in = &m->inner[g];
-    const char          *b[2];
-    char                 where[2 * M2D_NAME_LEN + 64];
-    if (strcmp(m->group[g], name) || !in->n) continue;
-    for (int k = 0; k < 2; k++) b[k] = in->body[k] >= 0 && in->body[k] < s->nbody ? s->body[in->body[k]].name : "?";
-    if (in->body[0] == in->body[1]) PetscCall(PetscSNPrintf(where, sizeof(where), "inside body '%s'", b[0]));
-    else PetscCall(PetscSNPrintf(where, sizeof(where), "between bodies '%s' and '%s', which share its nodes", b[0], b[1]));
-    SETERRQ(PetscObjectComm((PetscObject)m->dm), PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' has %" PetscInt_FMT " edge%s %s (the first from (%g, %g) to (%g, %g), between two cells): %s", option, name, in->n, in->n > 1 ? "s" : "", where, (double)in->xy[0], (double)in->xy[1], (double)in->xy[2], (double)in->xy[3], why);
-  }
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode MeshGroupSize(const M2dMesh *m, const char *name, const char *option, PetscInt *n)
 {
   IS is;
