@@ -14,9 +14,12 @@
 #include "optcheck.h"
 #include "optfiles.h"
 #include "adapt.h"
+#include "remesh.h"
 #include "helpprint.h"
 #include "step.h"
 #include "util.h"
+#include <string.h>
+#include <strings.h>
 
 static const char help[] = "mortar2d: 2D frictionless contact of linear elastic bodies (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
@@ -108,6 +111,24 @@ static void SingletonMPIDefaults(void)
   (void)setenv("OMPI_MCA_pml", "ob1", 0);
 }
 
+/* -adapt named (command line, PETSC_OPTIONS, an options file): gmsh's server
+ * process (remesh.h) starts now, on the rank that remeshes (0), so that gmsh
+ * loads and initialises while MPI and PETSc start. Only a hint: a wrong guess
+ * costs a process that loads gmsh for nothing (-adapt false), or the start at
+ * the first remeshing. */
+static void StartGmshEarly(void)
+{
+  const char *rank = getenv("OMPI_COMM_WORLD_RANK"); /* Open MPI; PMIx, MPICH below */
+  if (!rank) rank = getenv("PMIX_RANK");
+  if (!rank) rank = getenv("PMI_RANK");
+  if (rank && strcmp(rank, "0")) return;
+  for (int i = 0; i < M2dOptionsGivenCount(); i++)
+    if (!strcasecmp(M2dOptionsGiven(i, NULL), "adapt")) {
+      (void)M2dRemeshStart();
+      return;
+    }
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
@@ -116,6 +137,7 @@ int main(int argc, char **argv)
   if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   SingletonMPIDefaults();
+  StartGmshEarly();
   (void)M2dHelpArgs(&argc, &argv); /* -help_petsc: -help with PETSc's own options after the program's */
   (void)M2dHelpCapture(); /* -help: the program's options before PETSc's */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
