@@ -895,7 +895,10 @@ static void Server(int fd, pid_t parent)
   int       ierr   = 0;
   char      gmsh_err[PATH_MAX + 256] = "";
   pid_t     self   = getpid();
+  sigset_t  none;
   for (size_t k = 0; k < sizeof(sigs) / sizeof(sigs[0]); k++) signal(sigs[k], SIG_DFL);
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, NULL); /* started early, the parent still held SIGINT, SIGTERM, SIGHUP (tempfile.h) */
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (getppid() != parent) _exit(1); /* the parent is already gone */
   if (fd > 3 && dup2(fd, 3) == 3) close(fd), fd = 3;
