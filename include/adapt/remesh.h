@@ -13,10 +13,12 @@
  * be remeshed skips them then: If (!Exists(m2d_size_field)) Transfinite ... EndIf
  * (M2dRemesh refuses a .geo that names Transfinite but not m2d_size_field).
  *
- * gmsh keeps global state (options, parser, models), so every call initialises
- * and finalises the library itself: calls are independent of each other and of
- * what the .geo of an earlier call set. gmsh is not thread-safe: call from one
- * thread at a time (mortar2d: rank 0 only). Plain C, no PETSc, no MPI. */
+ * gmsh keeps global state (options, parser, models), so every call meshes with
+ * a gmsh just initialised (a process forked per call from a server process that
+ * initialised it once, remesh.c): calls are independent of each other and of
+ * what the .geo of an earlier call set, and a crash of gmsh is an error line.
+ * Call from one thread at a time (mortar2d: rank 0 only). Plain C, no PETSc,
+ * no MPI. */
 #ifndef M2D_REMESH_H
 #define M2D_REMESH_H
 #include <stddef.h>
@@ -78,6 +80,13 @@ typedef struct {
  * stats (may be NULL) gets timings and quad shapes. On error returns nonzero,
  * fills err with one line naming the .geo, and leaves out empty (freeable). */
 int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, char *err, size_t errlen);
+/* gmsh runs in a server process (remesh.c) that the first M2dRemesh starts, or
+ * this earlier (not collective, no MPI or PETSc call; best called before
+ * MPI_Init, while the process is small): the server then loads and
+ * initialises gmsh while the caller goes on. Returns 0, or 1 when the process
+ * could not be started (M2dRemesh will try again). The server ends when the
+ * caller exits. */
+int M2dRemeshStart(void);
 
 /* Corner angles and Jacobian ratios of the quads of m (any MshMesh). */
 void M2dQuadQualityCompute(const MshMesh *m, M2dQuadQuality *q);

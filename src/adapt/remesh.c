@@ -24,6 +24,7 @@
 #include <signal.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -56,9 +57,9 @@ static int Fail(Ctx *c, const char *fmt, ...)
   return 1;
 }
 
-/* gmsh's library is loaded on the first call (dlopen), not linked: it pulls in
- * some 80 libraries (OpenCASCADE, FLTK, ...) whose start-up every run of the
- * program would pay, remeshing or not. RTLD_DEEPBIND: their symbols are
+/* gmsh's library is loaded by the server process (dlopen), not linked: it pulls
+ * in some 80 libraries (OpenCASCADE, FLTK, ...) whose start-up every run of the
+ * program would pay, remeshing or not, and the program itself never loads it. RTLD_DEEPBIND: their symbols are
  * looked up in their own dependencies first, not through the long list of
  * PETSc's libraries already loaded (most of the cost of the dlopen). */
 #ifndef M2D_GMSH_LIBRARY
@@ -77,18 +78,16 @@ static struct {
 #undef X
 } G;
 
-static int LoadGmsh(Ctx *c)
+/* in the server only (the program itself never loads gmsh): 0, or 1 with why in msg */
+static int LoadGmsh(char *msg, size_t n)
 {
-  static void *lib;
-  void        *h;
-  if (lib) return 0;
-  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND))) return Fail(c, "cannot load gmsh's library: %s", dlerror());
+  void *h;
+  if (!(h = dlopen(M2D_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND))) return snprintf(msg, n, "cannot load gmsh's library: %s", dlerror()), 1;
 #define X(f) \
-  if (!(*(void **)&G.f = dlsym(h, #f))) return Fail(c, "gmsh's library %s has no function %s", M2D_GMSH_LIBRARY, #f);
+  if (!(*(void **)&G.f = dlsym(h, #f))) return snprintf(msg, n, "gmsh's library %s has no function %s", M2D_GMSH_LIBRARY, #f), 1;
   GMSH_FUNCTIONS(X)
 #undef X
-  lib = h; /* never closed: gmsh's libraries are not made to be unloaded */
-  return 0;
+  return 0; /* never closed: gmsh's libraries are not made to be unloaded */
 }
 
 /* gmsh reports errors through its logger (General.AbortOnError = 0 keeps its
@@ -683,26 +682,60 @@ static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, Msh
   return TakeMesh(c, out) || Orient(c, out);
 }
 
-/* ---------- gmsh in a child process ----------
+/* ---------- gmsh in a server process ----------
  * gmsh 4.8 crashes on some inputs (measured by tests/test_fuzz_geo.py: a
  * double free on binary garbage, a segmentation fault with Mesh.Algorithm 8
  * or with coordinates of 1e300), and a crash inside the program ended it with
- * PETSc's signal trace. gmsh therefore runs in a child process (fork, no MPI
- * or PETSc call there): its mesh or its error comes back through a pipe, and
- * a crash is one line. The child takes none of the parent's signal handlers
- * and dies with the parent (an interrupt ends both); the temporary .geo is
- * the parent's (recorded, removed by the parent). */
+ * PETSc's signal trace. gmsh therefore runs outside the program's process, and
+ * a crash is one line. The first call forks one server (no MPI or PETSc call
+ * there, none of the parent's signal handlers or open files besides stdin,
+ * stdout and stderr), which initialises gmsh once and then, for each request
+ * read from a socket, forks a worker of its own that meshes and answers: every
+ * mesh is made by a gmsh just out of gmshInitialize, as when each remeshing
+ * had a process of its own (the same meshes to the bit), but the fork is of
+ * the small server rather than of the program with its solver in memory, and
+ * gmsh is initialised once. A worker's crash is told to the parent by the
+ * server (which lives on); the server's own end (killed) is one line too, on
+ * the request that finds it gone and on every later one. The server and its
+ * worker die with the parent (PR_SET_PDEATHSIG; an interrupt ends all three),
+ * the server also when the parent closes the socket (at exit); the temporary
+ * .geo is the parent's (recorded, removed by the parent). */
 typedef struct {
-  int            failed, tagged;
+  long nnode, nquad, nline, npoint, nphys;
+  int  tagged;
+} Counts;
+
+typedef struct {
+  int            failed;
   char           err[1024];
   M2dRemeshStats st;
-  long           nnode, nquad, nline, npoint, nphys;
+  Counts         k;
 } Reply;
+
+typedef struct {
+  double t0, hmin, hmax;
+  int    verbose, quads, field; /* field: 0 none, 1 sizes per node, 2 per cell */
+  long   lname, lopen, lmsh;    /* lengths of the strings that follow (with the NUL), 0: NULL */
+  Counts k;                     /* the previous mesh, when field */
+} Request;
+
+typedef struct {
+  int    kind; /* 0: the worker's reply follows; 1: it died of signal code; 2: it exited with status code; 3: fork failed, errno code */
+  int    code;
+  size_t nbytes;
+} Frame;
+
+/* a socket end, or a buffer already read */
+typedef struct {
+  int         fd;
+  const char *buf;
+  size_t      len, pos;
+} In;
 
 static int WriteAll(int fd, const void *p, size_t n)
 {
   for (const char *b = (const char *)p; n;) {
-    ssize_t w = write(fd, b, n);
+    ssize_t w = send(fd, b, n, MSG_NOSIGNAL); /* a closed peer: EPIPE, no SIGPIPE */
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0) return 1;
     b += w, n -= (size_t)w;
@@ -721,96 +754,294 @@ static int ReadAll(int fd, void *p, size_t n)
   return 0;
 }
 
-/* the mesh's arrays, in this order (both directions) */
-#define MESH_ARRAYS(X, m, r) \
-  X(m->xy, 2 * r.nnode, double) X(m->quad, 4 * r.nquad, long) X(m->quadtag, r.tagged ? r.nquad : 0, long) X(m->quadphys, r.nquad, int) \
-  X(m->line, 2 * r.nline, long) X(m->linephys, r.nline, int) X(m->point, r.npoint, long) X(m->pointphys, r.npoint, int) X(m->phys, r.nphys, MshPhysical)
+static int Get(In *in, void *p, size_t n)
+{
+  if (!in->buf) return ReadAll(in->fd, p, n);
+  if (n > in->len - in->pos) return 1;
+  memcpy(p, in->buf + in->pos, n);
+  in->pos += n;
+  return 0;
+}
 
-static void Send(int fd, const Ctx *c, const MshMesh *m, const M2dRemeshStats *st)
+/* the mesh's arrays, in this order (both directions) */
+#define MESH_ARRAYS(X, m, k) \
+  X(m->xy, 2 * k.nnode, double) X(m->quad, 4 * k.nquad, long) X(m->quadtag, k.tagged ? k.nquad : 0, long) X(m->quadphys, k.nquad, int) \
+  X(m->line, 2 * k.nline, long) X(m->linephys, k.nline, int) X(m->point, k.npoint, long) X(m->pointphys, k.npoint, int) X(m->phys, k.nphys, MshPhysical)
+
+static Counts CountsOf(const MshMesh *m)
+{
+  Counts k = {m->nnode, m->nquad, m->nline, m->npoint, m->nphys, m->quadtag != NULL};
+  return k;
+}
+
+static int PutMesh(int fd, const MshMesh *m, Counts k)
+{
+#define X(a, n, T) if ((n) > 0 && WriteAll(fd, a, (size_t)(n) * sizeof(T))) return 1;
+  MESH_ARRAYS(X, m, k)
+#undef X
+  return 0;
+}
+
+/* counts checked first: the arrays are then allocated and read (MshFree frees them) */
+static int GetMesh(In *in, MshMesh *m, Counts k)
+{
+  if (k.nnode < 0 || k.nquad < 0 || k.nline < 0 || k.npoint < 0 || k.nphys < 0 || k.nphys > INT_MAX || k.nnode > LONG_MAX / 64 || k.nquad > LONG_MAX / 64 || k.nline > LONG_MAX / 64 || k.npoint > LONG_MAX / 64) return 1;
+  m->nnode = k.nnode, m->nquad = k.nquad, m->nline = k.nline, m->npoint = k.npoint, m->nphys = (int)k.nphys;
+#define X(a, n, T) \
+  if ((n) > 0 && (!(a = (T *)malloc((size_t)(n) * sizeof(T))) || Get(in, a, (size_t)(n) * sizeof(T)))) return 1;
+  MESH_ARRAYS(X, m, k)
+#undef X
+  return 0;
+}
+
+static int Send(int fd, const Ctx *c, const MshMesh *m, const M2dRemeshStats *st)
 {
   Reply r;
   memset(&r, 0, sizeof(r));
   r.failed = c->failed;
   snprintf(r.err, sizeof(r.err), "%s", c->err ? c->err : "");
   r.st = *st;
-  if (!c->failed) r.nnode = m->nnode, r.nquad = m->nquad, r.nline = m->nline, r.npoint = m->npoint, r.nphys = m->nphys, r.tagged = m->quadtag != NULL;
-  if (WriteAll(fd, &r, sizeof(r)) || c->failed) return;
-#define X(a, n, T) if ((n) > 0 && WriteAll(fd, a, (size_t)(n) * sizeof(T))) return;
-  MESH_ARRAYS(X, m, r)
-#undef X
+  if (!c->failed) r.k = CountsOf(m);
+  if (WriteAll(fd, &r, sizeof(r))) return 1;
+  return c->failed ? 0 : PutMesh(fd, m, r.k);
 }
 
-static int Receive(Ctx *c, int fd, MshMesh *m, M2dRemeshStats *st)
+/* 0: a mesh or gmsh's error in c; 1: a reply that cannot be read */
+static int Receive(Ctx *c, In *in, MshMesh *m, M2dRemeshStats *st)
 {
   Reply r;
-  if (ReadAll(fd, &r, sizeof(r))) return 1;
+  if (Get(in, &r, sizeof(r))) return 1;
   if (r.failed) {
     r.err[sizeof(r.err) - 1] = 0;
     if (c->err && c->errlen) snprintf(c->err, c->errlen, "%s", r.err);
     c->failed = 1;
     return 0;
   }
-  if (r.nnode < 0 || r.nquad < 0 || r.nline < 0 || r.npoint < 0 || r.nphys < 0 || r.nphys > INT_MAX) return 1;
-  m->nnode = r.nnode, m->nquad = r.nquad, m->nline = r.nline, m->npoint = r.npoint, m->nphys = (int)r.nphys;
-#define X(a, n, T) \
-  if ((n) > 0) { \
-    if (!(a = (T *)malloc((size_t)(n) * sizeof(T)))) return Fail(c, "out of memory"); \
-    if (ReadAll(fd, a, (size_t)(n) * sizeof(T))) return 1; \
-  }
-  MESH_ARRAYS(X, m, r)
-#undef X
+  if (GetMesh(in, m, r.k) || in->pos != in->len) return 1;
   *st = r.st;
   return 0;
 }
 
-/* the child: gmsh from start to end, the answer sent through fd */
-static void Child(Ctx *c, const M2dRemeshInput *in, const char *geo, int fd, pid_t parent, double t0)
+static int PutString(int fd, const char *s, long n)
 {
-  const int      sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE};
-  char          *argv[] = {(char *)"mortar2d", NULL};
-  int            ierr   = 0;
+  return n > 0 && WriteAll(fd, s, (size_t)n);
+}
+
+static char *GetString(In *in, long n)
+{
+  char *s;
+  if (n <= 0) return NULL;
+  if (n > 1L << 20 || !(s = (char *)malloc((size_t)n))) _exit(1);
+  if (Get(in, s, (size_t)n)) _exit(0); /* the parent is gone */
+  s[n - 1] = 0;
+  return s;
+}
+
+/* the worker: one mesh by the gmsh the server initialised, the answer sent through fd */
+static void Worker(const Request *q, const char *name, const char *open_path, const char *msh, const MshMesh *prev, const double *h, const char *gmsh_err, int fd, pid_t server)
+{
+  char           err[1024] = "";
+  Ctx            c;
   Driver         d;
   MshMesh        out;
   M2dRemeshStats st;
+  M2dRemeshInput in;
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != server) _exit(1); /* the server is already gone */
+  memset(&c, 0, sizeof(c));
   memset(&d, 0, sizeof(d));
   memset(&out, 0, sizeof(out));
   memset(&st, 0, sizeof(st));
-  for (size_t k = 0; k < sizeof(sigs) / sizeof(sigs[0]); k++) signal(sigs[k], SIG_DFL);
-  prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (!in->verbose) { /* gmsh's own prints, and glibc's on a crash: the parent's line says it */
+  memset(&in, 0, sizeof(in));
+  c.geo = name, c.err = err, c.errlen = sizeof(err), c.slot = -1;
+  in.geo = name, in.verbose = q->verbose, in.quads = (M2dRemeshQuads)q->quads, in.hmin = q->hmin, in.hmax = q->hmax, in.write_msh = msh;
+  if (q->field) in.prev = prev;
+  if (q->field == 1) in.hnode = h;
+  if (q->field == 2) in.hcell = h;
+  if (!q->verbose) { /* gmsh's own prints, and glibc's on a crash: the parent's line says it */
     int null = open("/dev/null", O_WRONLY);
     if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO), close(null);
   }
-  if (getppid() != parent) _exit(1); /* the parent is already gone */
-  G.gmshInitialize(1, argv, 0, &ierr);
-  if (ierr) Fail(c, "gmsh did not initialise");
-  else Run(c, in, geo, &d, &out, &st, t0);
-  Send(fd, c, &out, &st);
-  _exit(0); /* no atexit handler of the parent's, no gmshFinalize: the process ends */
+  if (gmsh_err[0]) Fail(&c, "%s", gmsh_err);
+  else Run(&c, &in, open_path, &d, &out, &st, q->t0);
+  _exit(Send(fd, &c, &out, &st) ? 3 : 0); /* no atexit handler of the parent's, no gmshFinalize: the process ends */
 }
 
-static int InChild(Ctx *c, const M2dRemeshInput *in, const char *geo, MshMesh *out, M2dRemeshStats *st, double t0)
+/* the worker's whole answer, read until it closes its end */
+static char *Drain(int fd, size_t *n)
 {
-  int   fd[2], status = 0, lost;
-  pid_t pid, parent = getpid();
-  if (pipe(fd)) return Fail(c, "cannot create a pipe: %s", strerror(errno));
+  size_t cap = 1 << 16;
+  char  *b   = (char *)malloc(cap), *nb;
+  *n         = 0;
+  for (;;) {
+    ssize_t r;
+    if (!b) _exit(1);
+    if (*n == cap) {
+      if (!(nb = (char *)realloc(b, cap *= 2))) _exit(1);
+      b = nb;
+    }
+    r = read(fd, b + *n, cap - *n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return b;
+    *n += (size_t)r;
+  }
+}
+
+/* the server: gmsh initialised once, a worker forked per request; ends when the parent closes the socket */
+static void Server(int fd, pid_t parent)
+{
+  const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGCHLD, SIGUSR1, SIGUSR2, SIGALRM, SIGCONT, SIGTSTP, SIGQUIT};
+  char     *argv[] = {(char *)"mortar2d", NULL};
+  int       ierr   = 0;
+  char      gmsh_err[PATH_MAX + 256] = "";
+  pid_t     self   = getpid();
+  sigset_t  none;
+  for (size_t k = 0; k < sizeof(sigs) / sizeof(sigs[0]); k++) signal(sigs[k], SIG_DFL);
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, NULL); /* started early, the parent still held SIGINT, SIGTERM, SIGHUP (tempfile.h) */
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != parent) _exit(1); /* the parent is already gone */
+  if (fd > 3 && dup2(fd, 3) == 3) close(fd), fd = 3;
+  if (fd >= 3) close_range((unsigned)fd + 1, ~0U, 0); /* the parent's files, sockets (MPI's) and pipes: not held open here */
+  if (!LoadGmsh(gmsh_err, sizeof(gmsh_err))) {
+    G.gmshInitialize(1, argv, 0, &ierr);
+    if (ierr) snprintf(gmsh_err, sizeof(gmsh_err), "gmsh did not initialise");
+  }
+  for (;;) {
+    In       in = {fd, NULL, 0, 0};
+    Request  q;
+    MshMesh  prev;
+    double  *h = NULL;
+    char    *name, *open_path, *msh, *buf;
+    int      w[2], status = 0;
+    size_t   nbuf = 0;
+    Frame    f;
+    pid_t    pid;
+    memset(&prev, 0, sizeof(prev));
+    if (ReadAll(fd, &q, sizeof(q))) _exit(0); /* the parent closed the socket, or is gone */
+    name      = GetString(&in, q.lname);
+    open_path = GetString(&in, q.lopen);
+    msh       = GetString(&in, q.lmsh);
+    if (q.field) {
+      long nh = q.field == 1 ? q.k.nnode : q.k.nquad;
+      if (GetMesh(&in, &prev, q.k) || nh < 0 || !(h = (double *)malloc((size_t)nh * sizeof(double) + 1)) || Get(&in, h, (size_t)nh * sizeof(double))) _exit(1);
+    }
+    memset(&f, 0, sizeof(f));
+    buf = NULL;
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, w)) f.kind = 3, f.code = errno;
+    else if ((pid = fork()) < 0) f.kind = 3, f.code = errno, close(w[0]), close(w[1]);
+    else if (pid == 0) {
+      close(fd), close(w[0]);
+      Worker(&q, name, open_path, msh, &prev, h, gmsh_err, w[1], self);
+    } else {
+      close(w[1]);
+      buf = Drain(w[0], &nbuf);
+      close(w[0]);
+      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) { }
+      if (WIFSIGNALED(status)) f.kind = 1, f.code = WTERMSIG(status);
+      else if (!WIFEXITED(status) || WEXITSTATUS(status) || !nbuf) f.kind = 2, f.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      else f.nbytes = nbuf;
+    }
+    if (WriteAll(fd, &f, sizeof(f)) || (f.nbytes && WriteAll(fd, buf, f.nbytes))) _exit(0);
+    free(buf), free(h), free(name), free(open_path), free(msh);
+    MshFree(&prev);
+  }
+}
+
+static struct {
+  pid_t pid, owner; /* the server, the process that started it (0: none yet) */
+  int   fd;         /* the parent's end of the socket */
+  char  gone[96];   /* why the server is gone, "" while it serves */
+} S = {0, 0, -1, ""};
+
+/* at exit: the server ends (it is idle: a request is answered before M2dRemesh returns) */
+static void StopServer(void)
+{
+  if (!S.pid || getpid() != S.owner) return;
+  if (S.fd >= 0) close(S.fd), S.fd = -1;
+  if (!S.gone[0]) {
+    kill(S.pid, SIGKILL);
+    while (waitpid(S.pid, NULL, 0) < 0 && errno == EINTR) { }
+    snprintf(S.gone, sizeof(S.gone), "stopped at exit");
+  }
+}
+
+static int StartServer(Ctx *c)
+{
+  static int registered;
+  int        sv[2];
+  pid_t      pid, parent = getpid();
+  if (!registered && atexit(StopServer)) return Fail(c, "cannot start gmsh's process: atexit failed");
+  registered = 1;
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv)) return Fail(c, "cannot create a socket: %s", strerror(errno));
   fflush(stdout);
   fflush(stderr);
   if ((pid = fork()) < 0) {
-    close(fd[0]), close(fd[1]);
+    close(sv[0]), close(sv[1]);
     return Fail(c, "cannot start gmsh's process: %s", strerror(errno));
   }
   if (pid == 0) {
-    close(fd[0]);
-    Child(c, in, geo, fd[1], parent, t0);
+    close(sv[0]);
+    Server(sv[1], parent);
   }
-  close(fd[1]);
-  lost = Receive(c, fd[0], out, st);
-  close(fd[0]);
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) { }
-  if (WIFSIGNALED(status)) return Fail(c, "gmsh crashed while meshing it (signal SIG%s)", sigabbrev_np(WTERMSIG(status)) ? sigabbrev_np(WTERMSIG(status)) : "?");
-  if (lost || !WIFEXITED(status) || WEXITSTATUS(status)) return Fail(c, "gmsh ended without a mesh (exit status %d)", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  close(sv[1]);
+  S.pid = pid, S.owner = parent, S.fd = sv[0];
+  return 0;
+}
+
+/* the socket found closed: the server is gone; why, once and for the later calls */
+static int Gone(Ctx *c)
+{
+  int   status = 0;
+  pid_t r;
+  close(S.fd), S.fd = -1;
+  while ((r = waitpid(S.pid, &status, 0)) < 0 && errno == EINTR) { }
+  if (r < 0) snprintf(S.gone, sizeof(S.gone), "its status unknown: %s", strerror(errno));
+  else if (WIFSIGNALED(status)) snprintf(S.gone, sizeof(S.gone), "signal SIG%s", sigabbrev_np(WTERMSIG(status)) ? sigabbrev_np(WTERMSIG(status)) : "?");
+  else snprintf(S.gone, sizeof(S.gone), "exit status %d", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return Fail(c, "gmsh's process ended (%s)", S.gone);
+}
+
+static int InServer(Ctx *c, const M2dRemeshInput *in, const char *geo, MshMesh *out, M2dRemeshStats *st, double t0)
+{
+  Request q;
+  Frame   f;
+  char   *buf = NULL;
+  int     lost;
+  if (S.gone[0]) return Fail(c, "gmsh's process ended earlier (%s)", S.gone);
+  if (!S.pid && StartServer(c)) return 1;
+  memset(&q, 0, sizeof(q));
+  q.t0 = t0, q.hmin = in->hmin, q.hmax = in->hmax, q.verbose = in->verbose, q.quads = (int)in->quads;
+  q.field = !in->prev ? 0 : in->hnode ? 1 : 2;
+  q.lname = (long)strlen(in->geo) + 1, q.lopen = (long)strlen(geo) + 1, q.lmsh = in->write_msh ? (long)strlen(in->write_msh) + 1 : 0;
+  if (q.field) q.k = CountsOf(in->prev);
+  if (WriteAll(S.fd, &q, sizeof(q)) || PutString(S.fd, in->geo, q.lname) || PutString(S.fd, geo, q.lopen) || PutString(S.fd, in->write_msh, q.lmsh) ||
+      (q.field && (PutMesh(S.fd, in->prev, q.k) || WriteAll(S.fd, q.field == 1 ? in->hnode : in->hcell, (size_t)(q.field == 1 ? q.k.nnode : q.k.nquad) * sizeof(double)))) ||
+      ReadAll(S.fd, &f, sizeof(f)))
+    return Gone(c);
+  if (f.kind == 1) return Fail(c, "gmsh crashed while meshing it (signal SIG%s)", sigabbrev_np(f.code) ? sigabbrev_np(f.code) : "?");
+  if (f.kind == 2) return Fail(c, "gmsh ended without a mesh (exit status %d)", f.code);
+  if (f.kind == 3) return Fail(c, "cannot start gmsh's process: %s", strerror(f.code));
+  if (f.kind != 0 || !f.nbytes || !(buf = (char *)malloc(f.nbytes))) return Fail(c, "gmsh ended without a mesh (%s)", f.kind ? "a reply the program cannot read" : "out of memory");
+  if (ReadAll(S.fd, buf, f.nbytes)) {
+    free(buf);
+    return Gone(c);
+  }
+  {
+    In r = {-1, buf, f.nbytes, 0};
+    lost = Receive(c, &r, out, st);
+  }
+  free(buf);
+  if (lost) return Fail(c, "gmsh ended without a mesh (a reply the program cannot read)");
   return c->failed;
+}
+
+int M2dRemeshStart(void)
+{
+  Ctx c;
+  memset(&c, 0, sizeof(c));
+  c.slot = -1;
+  return S.pid ? 0 : StartServer(&c);
 }
 
 int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, char *err, size_t errlen)
@@ -829,9 +1060,9 @@ int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, cha
   c.errlen = errlen;
   if (err && errlen) err[0] = 0;
   if (!in) return Fail(&c, "no input");
-  if (CheckInput(&c, in) || LoadGmsh(&c)) return 1; /* loaded here: every child has it */
+  if (CheckInput(&c, in)) return 1;
   snprintf(geo, sizeof(geo), "%s", in->geo);
-  if (!((in->nnumber || in->prev) && WriteWrapper(&c, in, geo))) InChild(&c, in, geo, out, &st, t0);
+  if (!((in->nnumber || in->prev) && WriteWrapper(&c, in, geo))) InServer(&c, in, geo, out, &st, t0);
   if (c.wrapper[0]) unlink(c.wrapper);
   M2dTempForgetFile(c.slot);
   if (c.failed) {

@@ -5,6 +5,7 @@
  * taken on any thread either finds no rename in progress or is deferred until
  * the renames are done. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* syscall */
 #include "tempfile.h"
 #include "temprecord.h"
 #include "util.h"
@@ -14,7 +15,9 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdint.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -22,6 +25,7 @@
 
 typedef struct {
   volatile sig_atomic_t used;
+  volatile sig_atomic_t dir; /* a directory: removed with everything in it */
   char                  path[PETSC_MAX_PATH_LEN];
 } TempEntry;
 
@@ -39,12 +43,49 @@ static pid_t     owner          = 0; /* the process that recorded the table */
 static char      tag[64];
 static int       atexit_done = 0;
 
+/* Everything in the open directory dfd, removed with system calls only
+ * (getdents64, unlinkat, openat: async-signal-safe, no opendir's malloc); a
+ * pass that removed something is followed by another from the start, as the
+ * listing of a directory being emptied may skip entries. Depth at most 16. */
+static void EmptyDir(int dfd, int depth)
+{
+  struct Dirent64 {
+    uint64_t       ino;
+    int64_t        off;
+    unsigned short reclen;
+    unsigned char  type;
+    char           name[];
+  };
+  char buf[2048] __attribute__((aligned(8)));
+  for (int pass = 0, removed = 1; removed && pass < 64; pass++) {
+    long n;
+    removed = 0;
+    if (lseek(dfd, 0, SEEK_SET) < 0) return;
+    while ((n = syscall(SYS_getdents64, dfd, buf, sizeof(buf))) > 0)
+      for (long off = 0; off < n;) {
+        const struct Dirent64 *e = (const struct Dirent64 *)(buf + off);
+        off += e->reclen;
+        if (e->name[0] == '.' && (!e->name[1] || (e->name[1] == '.' && !e->name[2]))) continue;
+        if (!unlinkat(dfd, e->name, 0)) removed = 1;
+        else if (errno == EISDIR && depth < 16) {
+          int sub = openat(dfd, e->name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+          if (sub >= 0) EmptyDir(sub, depth + 1), close(sub);
+          if (!unlinkat(dfd, e->name, AT_REMOVEDIR)) removed = 1;
+        }
+      }
+  }
+}
+
 static void RemoveRecorded(void)
 {
   if (getpid() != owner) return; /* a forked child owns nothing */
   for (int i = M2D_TEMP_MAX - 1; i >= 0; i--) {
     if (!temps[i].used) continue;
-    unlink(temps[i].path);
+    if (temps[i].dir) {
+      int dfd = open(temps[i].path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+      if (dfd >= 0) EmptyDir(dfd, 0), close(dfd);
+      rmdir(temps[i].path);
+    } else unlink(temps[i].path);
     temps[i].used = 0;
   }
 }
@@ -202,7 +243,7 @@ void M2dMetisSignal(int rc, int metis_error)
   if (rc == metis_error) raise(SIGTERM); /* GKlib restored our handler on return */
 }
 
-static int Record(const char *path)
+static int Record(const char *path, int dir)
 {
   size_t n = strlen(path);
 
@@ -215,6 +256,7 @@ static int Record(const char *path)
   for (int i = 0; i < M2D_TEMP_MAX; i++) {
     if (temps[i].used) continue;
     memcpy(temps[i].path, path, n + 1);
+    temps[i].dir = dir;
     __atomic_thread_fence(__ATOMIC_SEQ_CST); /* the path is complete before the handler may read it */
     temps[i].used = 1;
     return i;
@@ -230,7 +272,12 @@ static void Forget(int *slot)
 
 int M2dTempRecordFile(const char *path)
 {
-  return Record(path);
+  return Record(path, 0);
+}
+
+int M2dTempRecordDir(const char *path)
+{
+  return Record(path, 1);
 }
 
 void M2dTempForgetFile(int slot)
@@ -281,6 +328,44 @@ void M2dTempRemoveStale(const char *dir)
   closedir(d);
 }
 
+/* "<prefix><8 hex>.<pid>.<anything>" of this host and a process that is gone */
+static PetscBool StaleDir(const char *name, const char *prefix)
+{
+  const char *t = M2dTempTag(), *p;
+  size_t      lp = strlen(prefix);
+  char       *end;
+  long        pid;
+
+  if (strncmp(name, prefix, lp) || strncmp(name + lp, t, 9)) return PETSC_FALSE;
+  p   = name + lp + 9;
+  pid = strtol(p, &end, 10);
+  if (end == p || *end != '.' || pid <= 0 || pid == (long)getpid()) return PETSC_FALSE;
+  return Gone(pid);
+}
+
+int M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t len)
+{
+  DIR           *d;
+  struct dirent *e;
+  int            n;
+
+  if ((d = opendir(parent))) { /* those of runs that could not remove theirs (SIGKILL, a crash) */
+    while ((e = readdir(d))) {
+      int dfd;
+      if (!StaleDir(e->d_name, prefix) || (size_t)snprintf(path, len, "%s/%s", parent, e->d_name) >= len) continue;
+      if ((dfd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) >= 0) EmptyDir(dfd, 0), close(dfd), rmdir(path);
+    }
+    closedir(d);
+  }
+  n = snprintf(path, len, "%s/%s%s.XXXXXX", parent, prefix, M2dTempTag());
+  if (n < 0 || (size_t)n >= len || !mkdtemp(path)) return -1;
+  if (Record(path, 1) < 0) {
+    rmdir(path);
+    return -1;
+  }
+  return 0;
+}
+
 PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len)
 {
   const char *slash = strrchr(path, '/');
@@ -302,7 +387,7 @@ PetscErrorCode M2dFileOpen(const char *path, PetscBool stdio, M2dFile *f)
   f->tmp[0] = 0;
   PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
   PetscCall(M2dTmpName(path, f->tmp, sizeof(f->tmp)));
-  f->slot = Record(f->tmp);
+  f->slot = Record(f->tmp, 0);
   PetscCheck(f->slot >= 0, PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot record the temporary '%.200s': more than %d temporaries", f->tmp, M2D_TEMP_MAX);
   if (!stdio) PetscFunctionReturn(0);
   f->fp = fopen(f->tmp, "wb");
