@@ -36,6 +36,7 @@ typedef struct {
   PetscBool        own_method;   /* given in -contact_pairs (NM:M:standard|dual|nts) */
   PetscReal        hertz_radius; /* -hertz: this pair's effective radius */
   char             what[2 * M2D_NAME_LEN + 64]; /* the options that name it, for messages */
+  const char      *opt_nm, *opt_m;              /* the option that names each side: -contact_pairs, or -contact_nonmortar and -contact_mortar */
 } M2dPair;
 
 typedef enum {

@@ -7,9 +7,7 @@
 /* Record the file path (before it exists): its slot, or -1 when the path is
  * too long or the table is full (then nothing is recorded). */
 int  M2dTempRecordFile(const char *path);
-/* The same for a directory that exists, removed with everything in it. */
-int  M2dTempRecordDir(const char *path);
-/* Make and record (as above) the directory parent/<prefix><host hash>.<pid>.XXXXXX
+/* Make and record (removed with everything in it) the directory parent/<prefix><host hash>.<pid>.XXXXXX
  * (mkdtemp), its path in path; first remove those of this host's processes
  * that are gone (killed or crashed before they could). 0, or -1 (nothing made). */
 int  M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t len);

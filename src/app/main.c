@@ -117,8 +117,8 @@ static PetscErrorCode Run(MPI_Comm comm)
  * its own, made here (in TMPDIR) and recorded (temprecord.h) so that every
  * exit, SIGINT, SIGTERM and SIGHUP remove it with what Open MPI left in it
  * (one left by a run killed or crashed is removed by the next run).
- * Only when no launcher started the process and the user has chosen none of
- * the three (OMPI_MCA_...); other MPIs ignore the variables. */
+ * Only when no launcher started the process; the session settings only when
+ * the user set neither of their two variables. Other MPIs ignore them. */
 static void SingletonMPIDefaults(void)
 {
   static char base[PATH_MAX];

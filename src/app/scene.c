@@ -232,6 +232,7 @@ static PetscErrorCode ParsePair(const char *entry, PetscInt k, M2dScene *s)
     p->basis      = i == 1 ? 1 : 0; /* MortarBasis: standard, dual */
   }
   PetscCall(PetscSNPrintf(p->what, sizeof(p->what), "option -contact_pairs, pair %d '%s:%s'", (int)k + 1, p->nm, p->m));
+  p->opt_nm = p->opt_m = "-contact_pairs";
   PetscFunctionReturn(0);
 }
 
@@ -414,6 +415,8 @@ static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
     PetscCall(PetscStrncpy(s->pair[0].nm, s->contact_nm, sizeof(s->pair[0].nm)));
     PetscCall(PetscStrncpy(s->pair[0].m, s->contact_m, sizeof(s->pair[0].m)));
     PetscCall(PetscSNPrintf(s->pair[0].what, sizeof(s->pair[0].what), "options -contact_nonmortar %s and -contact_mortar %s", s->contact_nm, s->contact_m));
+    s->pair[0].opt_nm = "-contact_nonmortar";
+    s->pair[0].opt_m  = "-contact_mortar";
   }
   for (PetscInt k = 0; k < s->npair; k++) {
     M2dPair *p = &s->pair[k];

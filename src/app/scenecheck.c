@@ -70,8 +70,6 @@ static PetscErrorCode CheckContactSide(MPI_Comm comm, const M2dScene *s, const M
 
 PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
 {
-  PetscBool short_form = (PetscBool)(s->contact_nm[0] != 0);
-
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < s->ndir; i++) {
     const M2dDirichlet *bc = &s->dir[i];
@@ -88,8 +86,8 @@ PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m
   for (PetscInt k = 0; k < s->npair; k++) {
     const M2dPair *p = &s->pair[k];
     PetscInt             bnm, bm;
-    PetscCall(CheckContactSide(comm, s, m, p->nm, short_form ? "-contact_nonmortar" : "-contact_pairs", &bnm));
-    PetscCall(CheckContactSide(comm, s, m, p->m, short_form ? "-contact_mortar" : "-contact_pairs", &bm));
+    PetscCall(CheckContactSide(comm, s, m, p->nm, p->opt_nm, &bnm));
+    PetscCall(CheckContactSide(comm, s, m, p->m, p->opt_m, &bm));
     PetscCheck(bnm != bm, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", p->what, s->body[bnm].name);
   }
   PetscFunctionReturn(0);

@@ -42,14 +42,13 @@ static PetscErrorCode NoRows(MPI_Comm comm, const M2dContactPair *c, const M2dSc
 static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, PetscInt k, M2dContactPair *c)
 {
   MPI_Comm    comm  = PetscObjectComm((PetscObject)m->dm);
-  PetscBool   short_form = (PetscBool)(s->contact_nm[0] != 0);
 
   PetscFunctionBeginUser;
   c->def    = &s->pair[k];
   c->method = c->def->method;
   c->basis  = (M2dMortarBasis)c->def->basis;
-  PetscCall(SurfaceGather(m, c->def->nm, short_form ? "-contact_nonmortar" : "-contact_pairs", &c->nm));
-  PetscCall(SurfaceGather(m, c->def->m, short_form ? "-contact_mortar" : "-contact_pairs", &c->m));
+  PetscCall(SurfaceGather(m, c->def->nm, c->def->opt_nm, &c->nm));
+  PetscCall(SurfaceGather(m, c->def->m, c->def->opt_m, &c->m));
   c->reach = s->reach;
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   if (M2dMethodOf(c->method, c->basis)->segments) {

@@ -275,11 +275,6 @@ int M2dTempRecordFile(const char *path)
   return Record(path, 0);
 }
 
-int M2dTempRecordDir(const char *path)
-{
-  return Record(path, 1);
-}
-
 void M2dTempForgetFile(int slot)
 {
   Forget(&slot);
@@ -301,11 +296,11 @@ static PetscBool Gone(long pid)
   return zombie ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* ".m2d.tmp.<8 hex>.<pid>." of this host and a process that is gone */
-static PetscBool Stale(const char *name)
+/* "<prefix><8 hex>.<pid>.<anything>" of this host and a process that is gone */
+static PetscBool Stale(const char *name, const char *prefix)
 {
-  const char *prefix = M2D_TEMP_PREFIX "tmp.", *t = M2dTempTag(), *p;
-  size_t      lp     = strlen(prefix);
+  const char *t = M2dTempTag(), *p;
+  size_t      lp = strlen(prefix);
   char       *end;
   long        pid;
 
@@ -324,23 +319,8 @@ void M2dTempRemoveStale(const char *dir)
 
   if (!d) return;
   while ((e = readdir(d)))
-    if (Stale(e->d_name) && (size_t)snprintf(path, sizeof(path), "%s/%s", dir, e->d_name) < sizeof(path)) unlink(path);
+    if (Stale(e->d_name, M2D_TEMP_PREFIX "tmp.") && (size_t)snprintf(path, sizeof(path), "%s/%s", dir, e->d_name) < sizeof(path)) unlink(path);
   closedir(d);
-}
-
-/* "<prefix><8 hex>.<pid>.<anything>" of this host and a process that is gone */
-static PetscBool StaleDir(const char *name, const char *prefix)
-{
-  const char *t = M2dTempTag(), *p;
-  size_t      lp = strlen(prefix);
-  char       *end;
-  long        pid;
-
-  if (strncmp(name, prefix, lp) || strncmp(name + lp, t, 9)) return PETSC_FALSE;
-  p   = name + lp + 9;
-  pid = strtol(p, &end, 10);
-  if (end == p || *end != '.' || pid <= 0 || pid == (long)getpid()) return PETSC_FALSE;
-  return Gone(pid);
 }
 
 int M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t len)
@@ -352,7 +332,7 @@ int M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t le
   if ((d = opendir(parent))) { /* those of runs that could not remove theirs (SIGKILL, a crash) */
     while ((e = readdir(d))) {
       int dfd;
-      if (!StaleDir(e->d_name, prefix) || (size_t)snprintf(path, len, "%s/%s", parent, e->d_name) >= len) continue;
+      if (!Stale(e->d_name, prefix) || (size_t)snprintf(path, len, "%s/%s", parent, e->d_name) >= len) continue;
       if ((dfd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) >= 0) EmptyDir(dfd, 0), close(dfd), rmdir(path);
     }
     closedir(d);

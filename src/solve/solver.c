@@ -33,7 +33,7 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
   for (PetscInt k = 0; m && !given && k < s->npair; k++) { /* every pair's non-mortar edges */
     PetscInt nk;
-    PetscCall(MeshGroupSize(m, s->pair[k].nm, s->contact_nm[0] ? "-contact_nonmortar" : "-contact_pairs", &nk));
+    PetscCall(MeshGroupSize(m, s->pair[k].nm, s->pair[k].opt_nm, &nk));
     n += nk;
   }
   if (n > s->kkt_condensed_max) {
