@@ -12,7 +12,8 @@ set-ups, solve seconds and whole-process wall seconds (min over the rounds),
 CPU seconds of the process (min; less sensitive to the load than the wall
 time), peak memory of the largest rank, the ratio of the whole-process wall
 time to the condensed path's (each round's own ratio; min and median), and
-the check: the same steps and active set as the condensed path, contact
+the check: the same active set as the condensed path (the steps that led
+there may differ: inexact steps take the set their solve tells), contact
 pressures equal to 1e-8 of the peak. A configuration that does not pass the
 check is marked NOT EQUAL (and the tool exits 1).
 """
@@ -28,6 +29,7 @@ H = "-iterative_pc_hypre_boomeramg_"
 # name -> options after -kkt_path iterative (the defaults: "default")
 CONFIGS = {
     "default": [],
+    "prove": ["-iterative_prove"],  # every step's set proven: the condensed path's steps one by one (the default before)
     "complete": ["-iterative_inexact", "0", "-iterative_zone", "-1", "-iterative_reuse", "0"],  # each step to 1e-12, a new AMG each step
     # the path before issue 25: complete steps, a new AMG each, BoomerAMG without aggressive coarsening, symmetric Gauss-Seidel
     "before": ["-iterative_inexact", "0", "-iterative_zone", "-1", "-iterative_reuse", "0", H + "agg_nl", "0",
@@ -42,6 +44,7 @@ CONFIGS = {
     "new-amg": ["-iterative_reuse", "0"],
     "inexact0.01": ["-iterative_inexact", "0.01"],
     "inexact0.3": ["-iterative_inexact", "0.3"],
+    "inexact0.5": ["-iterative_inexact", "0.5"],
     "sgs": [H + "relax_type_down", "symmetric-SOR/Jacobi", H + "relax_type_up", "symmetric-SOR/Jacobi"],
     "agg0": [H + "agg_nl", "0"],
     "gs": [H + "relax_type_down", "SOR/Jacobi", H + "relax_type_up", "backward-SOR/Jacobi"],
@@ -107,12 +110,12 @@ def main():
                 ref = ref or (s, cols)
                 continue
             dp = max(abs(x - y) for x, y in zip(cols["pressure"], ref[1]["pressure"])) / max(abs(x) for x in ref[1]["pressure"])
-            same = s["iterations"] == ref[0]["iterations"] and list(cols["active"]) == list(ref[1]["active"])
+            same = list(cols["active"]) == list(ref[1]["active"])
             if not (same and dp < 1e-8):
                 bad = True
-            print("  round %d %-12s wall %7.2f s, cpu %7.2f s, %3d its, %2d set-ups, %s, pressure %.1e of the peak" % (
-                k, n, r.wall, r.cpu_s, s.get("ksp_iterations_total", 0), s.get("pc_setups", 0),
-                "same steps and set" if same else "DIFFERENT steps or set", dp), flush=True)
+            print("  round %d %-12s wall %7.2f s, cpu %7.2f s, %2d steps (condensed %d), %3d its, %2d set-ups, %s, pressure %.1e of the peak" % (
+                k, n, r.wall, r.cpu_s, s["iterations"], ref[0]["iterations"], s.get("ksp_iterations_total", 0), s.get("pc_setups", 0),
+                "same set" if same else "DIFFERENT set", dp), flush=True)
         print("  round %d condensed    wall %7.2f s, cpu %7.2f s" % (k, res["condensed"][-1][1].wall, res["condensed"][-1][1].cpu_s), flush=True)
     s0 = res["condensed"][0][0]
     print("\nHertz level %d (%d dofs), %d rank(s), min of %d interleaved rounds:" % (a.level, s0["dofs"], a.ranks, a.repeat))
@@ -129,7 +132,7 @@ def main():
             min(r.wall for _, r in ss), min(r.cpu_s for _, r in ss), s["memory_max_rank_mb"],
             "1" if n == "condensed" else "%.2f, %.2f" % (min(ratios), statistics.median(ratios))))
     if bad:
-        print("NOT EQUAL: a configuration did not give the condensed path's steps, set and pressures (above)")
+        print("NOT EQUAL: a configuration did not give the condensed path's active set and pressures (above)")
         raise SystemExit(1)
 
 

@@ -33,4 +33,6 @@ PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dF
  * added to the message. Collective (no communication; same verdict on every
  * rank). */
 PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2dScene *s, const M2dContact *ct, const PetscScalar *active, const char *when);
+/* The same question without failing: *held when every body is held. */
+PetscErrorCode M2dSupportsHeld(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscBool *held);
 #endif

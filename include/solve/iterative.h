@@ -39,6 +39,7 @@ typedef struct {
   PetscReal inexact; /* -iterative_inexact: a step's tolerance while its set may still change */
   PetscReal reuse;   /* -iterative_reuse: keep the AMG while a step converges at most this much slower */
   PetscInt  zone;    /* -iterative_zone: rings around the contact dofs solved exactly (-1: none) */
+  PetscBool prove;   /* -iterative_prove: every inexact step refined until its next set is sure */
 } M2dIterativeOptions;
 
 typedef struct {
@@ -50,6 +51,7 @@ typedef struct {
   PetscInt zone_dofs;  /* unknowns of the contact zone (0: none) */
   PetscReal rtol;      /* a complete solve's tolerance (-iterative_ksp_rtol) */
   PetscReal inexact;   /* -iterative_inexact */
+  PetscBool prove;     /* -iterative_prove */
 } M2dIterativeInfo;
 
 /* -iterative_inexact and -iterative_reuse (with -help, their help and

@@ -145,12 +145,13 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2dScene *s, const M2dContact *ct, const PetscScalar *active, const char *when)
+/* the eigen-decomposition of G with the contact rows selected by active:
+ * eigenvalues w ascending, vectors in G; *gmax the scale of a zero one */
+static PetscErrorCode Decompose(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscReal *G, PetscReal *w, PetscReal *gmax)
 {
   PetscInt     n = 3 * sup->nbody;
-  PetscReal    G[MAXM * MAXM], w[MAXM], work[10 * MAXM], gmax;
+  PetscReal    work[10 * MAXM];
   PetscBLASInt bn, lwork = 10 * MAXM, info;
-  char         what[96];
 
   PetscFunctionBeginUser;
   PetscCall(PetscArraycpy(G, sup->gram, n * n));
@@ -158,7 +159,28 @@ PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2d
   PetscCall(PetscBLASIntCast(n, &bn));
   PetscCallBLAS("LAPACKsyev", LAPACKsyev_("V", "U", &bn, G, &bn, w, work, &lwork, &info));
   PetscCheck(info == 0, comm, PETSC_ERR_LIB, "rigid-mode check: LAPACK syev failed (%d)", (int)info);
-  gmax = PetscMax(w[n - 1], 1.0);
+  *gmax = PetscMax(w[n - 1], 1.0);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSupportsHeld(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscBool *held)
+{
+  PetscReal G[MAXM * MAXM], w[MAXM], gmax;
+
+  PetscFunctionBeginUser;
+  PetscCall(Decompose(sup, comm, ct, active, G, w, &gmax));
+  *held = (PetscBool)(w[0] > 1e-12 * gmax);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2dScene *s, const M2dContact *ct, const PetscScalar *active, const char *when)
+{
+  PetscInt  n = 3 * sup->nbody;
+  PetscReal G[MAXM * MAXM], w[MAXM], gmax;
+  char      what[96];
+
+  PetscFunctionBeginUser;
+  PetscCall(Decompose(sup, comm, ct, active, G, w, &gmax));
   for (PetscInt e = 0; e < n; e++) { /* a (near) zero eigenvalue: name the body and the motion that dominates it */
     const PetscReal *vec = &G[e * n];
     PetscInt         imax, b;

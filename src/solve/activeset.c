@@ -331,7 +331,7 @@ static PetscErrorCode Report(M2dActiveSet *as, M2dActiveSetInfo *info)
     info->ksp_its_max   = ii.its_max;
     info->ksp_its_total = ii.its_total;
     info->pc_setups     = ii.setups;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->lam), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups, contact zone of %" PetscInt_FMT " unknowns\n", ii.solves, ii.its_total, ii.its_max, ii.setups, ii.zone_dofs));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->lam), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups, contact zone of %" PetscInt_FMT " unknowns, %" PetscInt_FMT " steps on an inexact solve's set\n", ii.solves, ii.its_total, ii.its_max, ii.setups, ii.zone_dofs, as->unproven));
   }
   PetscFunctionReturn(0);
 }

@@ -42,6 +42,8 @@ typedef struct {
   Vec           all;     /* the mask on every rank (the held-bodies check) */
   VecScatter    toall;
   PetscInt      step;    /* active-set steps taken */
+  PetscBool     proving; /* iterative path: every step's set proven (after a cycle) */
+  PetscInt      unproven; /* iterative path: steps that took an inexact solve's set */
 } M2dActiveSet;
 
 /* c in the user's units (the summary's contact_c): lambda / c is a weighted gap */

@@ -311,9 +311,11 @@ PetscErrorCode M2dIterativeReadOptions(MPI_Comm comm, M2dIterativeOptions *opt)
   opt->inexact = 0.1;
   opt->reuse   = 2;
   opt->zone    = 4;
+  opt->prove   = PETSC_FALSE;
   PetscOptionsBegin(comm, NULL, "mortar2d: solver paths (-kkt_path iterative)", "");
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_inexact", "CG tolerance of a step whose set may still change (of its rhs; 0: all complete)", opt->inexact, &opt->inexact, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-iterative_reuse", "keep the AMG while steps converge at most this much slower (0: new each step)", opt->reuse, &opt->reuse, NULL));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-iterative_prove", "prove every inexact step's next set by tenfold refinements (default: the last step's only)", opt->prove, &opt->prove));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-iterative_zone", "rings of neighbours around the contact dofs solved exactly each step (-1: none)", opt->zone, &opt->zone, NULL));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
@@ -374,6 +376,7 @@ PetscErrorCode M2dIterativeCreate(const M2dKKT *kkt, const M2dContactRows *R, Pe
   it->info.slave_dofs = it->el.nrow;
   it->info.rtol       = it->rtol;
   it->info.inexact    = it->opt.inexact;
+  it->info.prove      = it->opt.prove;
   PetscFunctionReturn(0);
 }
 
