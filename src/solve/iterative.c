@@ -15,6 +15,8 @@ struct M2dIterative {
   M2dElimination el;       /* slaves and groups of the rows (elimination.h) */
   PetscInt  *own, nown;    /* groups with a slave dof this rank owns */
   Mat        P, E, Ar;     /* du = P v + E t; Ar = P^T K P + D_S */
+  IS         upd, upd2;    /* the rows of Ar a set changes (the contact rows' unknowns and one ring), one ring more */
+  Mat       *Ku, *Pu, Bu;  /* K[upd2, upd2] (once), P[upd2, upd2], Pu^T Ku Pu: every rank */
   Vec        dK;           /* diag K */
   Vec        mask;         /* the step's active set (layout of C's rows) */
   Vec        all;          /* the same on every rank */
@@ -213,6 +215,76 @@ static PetscErrorCode Ring(M2dIterative *it, PetscInt *n, PetscInt **z)
   PetscCall(PetscFree2(cnt, off));
   *z = all;
   *n = total;
+  PetscFunctionReturn(0);
+}
+
+/* The rows of Ar = P^T K P that a set can change: those of the contact rows'
+ * unknowns (slaves and masters) and of their neighbours (a slave's column of
+ * K reaches them), one ring; outside them Ar is K. Their columns lie in one
+ * ring more (upd2), and every product in their entries stays in upd2, so
+ * those rows of Ar are the same rows of Pu^T Ku Pu, P and K cut to upd2. */
+static PetscErrorCode UpdateCreate(M2dIterative *it)
+{
+  PetscInt n = it->el.rowptr[it->el.nrow], n2, *z, *z2;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n + 1, &z));
+  PetscCall(PetscArraycpy(z, it->el.rowcol, n));
+  PetscCall(PetscSortRemoveDupsInt(&n, z));
+  PetscCall(Ring(it, &n, &z));
+  n2 = n;
+  PetscCall(PetscMalloc1(n + 1, &z2));
+  PetscCall(PetscArraycpy(z2, z, n));
+  PetscCall(Ring(it, &n2, &z2));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->upd));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n2, z2, PETSC_OWN_POINTER, &it->upd2));
+  PetscCall(MatCreateSubMatrices(it->K, 1, &it->upd2, &it->upd2, MAT_INITIAL_MATRIX, &it->Ku));
+  PetscFunctionReturn(0);
+}
+
+/* Ar = P^T K P for a new P: only the rows in upd are computed again (from
+ * Pu^T Ku Pu), each of them zeroed first so that no value of the last set
+ * stays; a new nonzero would be an error (Ar's pattern is that of P's full
+ * pattern). Collective. */
+static PetscErrorCode UpdateRows(M2dIterative *it)
+{
+  const PetscInt *g, *u;
+  PetscInt        n2, n, lo, hi, cap = 0, *cols = NULL, *rows, nr = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateSubMatrices(it->P, 1, &it->upd2, &it->upd2, it->Pu ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Pu));
+  PetscCall(MatPtAP(it->Ku[0], it->Pu[0], it->Bu ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, 2.0, &it->Bu));
+  PetscCall(MatGetOwnershipRange(it->Ar, &lo, &hi));
+  PetscCall(ISGetLocalSize(it->upd2, &n2));
+  PetscCall(ISGetLocalSize(it->upd, &n));
+  PetscCall(ISGetIndices(it->upd2, &g));
+  PetscCall(ISGetIndices(it->upd, &u));
+  PetscCall(PetscMalloc1(n + 1, &rows));
+  for (PetscInt k = 0; k < n; k++)
+    if (u[k] >= lo && u[k] < hi) rows[nr++] = u[k];
+  PetscCall(MatZeroRows(it->Ar, nr, rows, 0.0, NULL, NULL)); /* pattern kept (MAT_KEEP_NONZERO_PATTERN) */
+  for (PetscInt i = 0, k = 0; i < n2; i++) {
+    const PetscInt    *c;
+    const PetscScalar *v;
+    PetscInt           nc, r = g[i];
+    while (k < n && u[k] < r) k++;
+    if (r < lo || r >= hi || k == n || u[k] != r) continue; /* not this rank's, or not a row a set changes */
+    PetscCall(MatGetRow(it->Bu, i, &nc, &c, &v));
+    if (nc > cap) {
+      PetscCall(PetscFree(cols));
+      cap = 2 * nc;
+      PetscCall(PetscMalloc1(cap, &cols));
+    }
+    for (PetscInt j = 0; j < nc; j++) cols[j] = g[c[j]];
+    PetscCall(MatSetValues(it->Ar, 1, &r, nc, cols, v, INSERT_VALUES));
+    PetscCall(MatRestoreRow(it->Bu, i, &nc, &c, &v));
+  }
+  PetscCall(ISRestoreIndices(it->upd, &u));
+  PetscCall(ISRestoreIndices(it->upd2, &g));
+  PetscCall(PetscFree(cols));
+  PetscCall(PetscFree(rows));
+  PetscCall(MatAssemblyBegin(it->Ar, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(it->Ar, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
 }
 
@@ -451,7 +523,10 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
     PetscCall(MatPtAP(it->K, it->P, MAT_INITIAL_MATRIX, 2.0, &it->Ar));
     PetscCall(MatGetNearNullSpace(it->K, &nsp));
     if (nsp) PetscCall(MatSetNearNullSpace(it->Ar, nsp));
-  } else PetscCall(MatPtAP(it->K, it->P, MAT_REUSE_MATRIX, 2.0, &it->Ar));
+    PetscCall(MatSetOption(it->Ar, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+    PetscCall(MatSetOption(it->Ar, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+    PetscCall(UpdateCreate(it));
+  } else PetscCall(UpdateRows(it)); /* what the set changes: the rows of upd */
   PetscCall(MatDiagonalSet(it->Ar, dS, ADD_VALUES));
   PetscCall(VecDestroy(&dS));
   PetscCall(KSPSetOperators(it->ksp, it->Ar, it->Ar));
@@ -634,6 +709,11 @@ PetscErrorCode M2dIterativeDestroy(M2dIterative **itp)
   PetscCall(KSPDestroy(&it->ksp));
   PetscCall(PCDestroy(&it->amg));
   PetscCall(ISDestroy(&it->zone));
+  PetscCall(ISDestroy(&it->upd));
+  PetscCall(ISDestroy(&it->upd2));
+  if (it->Ku) PetscCall(MatDestroySubMatrices(1, &it->Ku));
+  if (it->Pu) PetscCall(MatDestroySubMatrices(1, &it->Pu));
+  PetscCall(MatDestroy(&it->Bu));
   PetscCall(ISDestroy(&it->halo));
   if (it->Z) PetscCall(MatDestroySubMatrices(1, &it->Z));
   if (it->G) PetscCall(MatDestroySubMatrices(1, &it->G));
