@@ -17,6 +17,9 @@
  * a gmsh just initialised (a process forked per call from a server process that
  * initialised it once, remesh.c): calls are independent of each other and of
  * what the .geo of an earlier call set, and a crash of gmsh is an error line.
+ * With a size field, the surfaces are meshed in two shares at once, each by a
+ * process of its own (connected surfaces stay together; remesh.c, Share), and
+ * joined: the first share's nodes and cells first.
  * Call from one thread at a time (mortar2d: rank 0 only). Plain C, no PETSc,
  * no MPI. */
 #ifndef M2D_REMESH_H
@@ -54,7 +57,7 @@ typedef struct {
   const double  *hcell;   /* prev->nquad sizes, or NULL (exactly one of the two) */
   double         hmin, hmax;  /* clamp the field (0: no clamp) */
   M2dRemeshQuads quads;   /* with a field: how quads are made */
-  const char    *write_msh;   /* if not NULL: also save the mesh there (gmsh .msh 4.1) */
+  const char    *write_msh;   /* if not NULL: also save the mesh there (gmsh .msh 4.1; not shared then) */
   int            verbose;     /* 1: gmsh's messages on the terminal */
 } M2dRemeshInput;
 
@@ -69,7 +72,7 @@ typedef struct {
 
 typedef struct {
   double         seconds_open;     /* load gmsh (first call), parse the .geo, set up the field */
-  double         seconds_generate; /* gmsh's 2D meshing */
+  double         seconds_generate; /* gmsh's 2D meshing (the longer share's, when shared) */
   double         seconds_total;    /* the whole call */
   M2dQuadQuality quality;
 } M2dRemeshStats;

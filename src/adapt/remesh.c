@@ -37,6 +37,8 @@ typedef struct {
   int         failed;
   char        wrapper[PATH_MAX + 64]; /* temporary .geo that sets the numbers, or "" */
   int         slot;                   /* its entry in the temporary-file table, -1 if none */
+  int         share;                  /* a worker meshing its share of the surfaces (Share) */
+  int         groups;                 /* physical groups of the whole model, when a share */
 } Ctx;
 
 static double Now(void)
@@ -68,6 +70,7 @@ static int Fail(Ctx *c, const char *fmt, ...)
 #define GMSH_FUNCTIONS(X) \
   X(gmshFinalize) X(gmshFree) X(gmshInitialize) X(gmshLoggerGet) \
   X(gmshLoggerStart) X(gmshLoggerStop) X(gmshModelGetAdjacencies) X(gmshModelGetEntities) \
+  X(gmshModelMeshGetEmbedded) X(gmshModelRemoveEntities) \
   X(gmshModelGetPhysicalGroups) X(gmshModelGetPhysicalGroupsForEntity) X(gmshModelGetPhysicalName) X(gmshModelMeshFieldAdd) \
   X(gmshModelMeshFieldSetAsBackgroundMesh) X(gmshModelMeshFieldSetString) X(gmshModelMeshGenerate) X(gmshModelMeshGetElements) \
   X(gmshModelMeshGetNodes) X(gmshModelMeshSetSizeCallback) X(gmshOpen) \
@@ -553,6 +556,7 @@ static int TakeMesh(Ctx *c, MshMesh *m)
   int       ierr = 0, rc = 0;
   Tables    t = {NULL, 0, 0, 0, 0};
   if (TakePhysicalNames(c, m)) return 1;
+  if (!c->share) c->groups = m->nphys;
   G.gmshModelMeshGetNodes(&tags, &ntag, &coord, &ncoord, &par, &npar, -1, -1, 0, 0, &ierr);
   if (ierr) return GmshError(c, ierr, "to return the nodes");
   for (size_t i = 0; i < ntag; i++)
@@ -568,12 +572,12 @@ static int TakeMesh(Ctx *c, MshMesh *m)
       int   *ph = NULL;
       size_t nph = 0;
       G.gmshModelGetPhysicalGroupsForEntity(dim, ents[e + 1], &ph, &nph, &ierr);
-      if (nph || (!m->nphys && dim == 2)) rc = TakeEntity(c, m, &t, dim, ents[e + 1], ph, nph);
+      if (nph || (!c->groups && dim == 2)) rc = TakeEntity(c, m, &t, dim, ents[e + 1], ph, nph);
       G.gmshFree(ph);
     }
     G.gmshFree(ents);
   }
-  if (!rc && !m->nquad) rc = Fail(c, "the mesh has no quadrilaterals");
+  if (!rc && !m->nquad && !c->share) rc = Fail(c, "the mesh has no quadrilaterals"); /* a share: checked on the joined mesh */
   if (!rc) rc = Compact(c, m, coord, ntag);
   free(t.pos);
   G.gmshFree(tags), G.gmshFree(coord), G.gmshFree(par);
@@ -659,7 +663,162 @@ static void Quiet(int on, int *saved)
   }
 }
 
-static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, MshMesh *out, M2dRemeshStats *st, double t0)
+/* ---------- the surfaces shared between two workers ----------
+ * With a size field the model's surfaces are split into connected groups
+ * (surfaces with a curve or point in common, or what is embedded in them, stay
+ * together: their common nodes must be one), and the groups are dealt to
+ * M2D_SHARES workers by the cells they are expected to get (the previous cells'
+ * area over the new size squared, heaviest group first, each to the lightest
+ * share); each worker removes the entities of the others and meshes the rest.
+ * The two bodies of a scene are thus meshed at once on two cores, each by a gmsh
+ * of its own on one thread (the same meshes every run); the parent joins the
+ * shares in order (Join). One group: the first share meshes it all. */
+#define M2D_SHARES 2
+
+typedef struct {
+  long  *key; /* (dim, tag) of the entities in the closure of each surface */
+  size_t nkey;
+} Closure;
+
+static long Key(int dim, int tag)
+{
+  return (long)dim << 32 | (long)(unsigned)tag;
+}
+
+static int Has(const Closure *cl, long k)
+{
+  for (size_t i = 0; i < cl->nkey; i++)
+    if (cl->key[i] == k) return 1;
+  return 0;
+}
+
+static int AddKey(Ctx *c, Closure *cl, long k)
+{
+  long *b;
+  if (Has(cl, k)) return 0;
+  if (!(b = (long *)realloc(cl->key, (cl->nkey + 1) * sizeof(long)))) return Fail(c, "out of memory");
+  cl->key           = b;
+  cl->key[cl->nkey++] = k;
+  return 0;
+}
+
+/* an entity's points, or itself and its points: its curves' points too */
+static int AddDown(Ctx *c, Closure *cl, int dim, int tag)
+{
+  int   *up = NULL, *down = NULL, ierr = 0, rc;
+  size_t nup = 0, ndown = 0;
+  if ((rc = AddKey(c, cl, Key(dim, tag))) || dim == 0) return rc;
+  G.gmshModelGetAdjacencies(dim, tag, &up, &nup, &down, &ndown, &ierr);
+  for (size_t i = 0; i < ndown && !rc; i++) rc = AddDown(c, cl, dim - 1, down[i]);
+  G.gmshFree(up), G.gmshFree(down);
+  return rc;
+}
+
+static int Root(int *parent, int i)
+{
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+/* a curve or point in common */
+static int Shared(const Closure *a, const Closure *b)
+{
+  for (size_t i = 0; i < a->nkey; i++)
+    if ((int)(a->key[i] >> 32) < 2 && Has(b, a->key[i])) return 1;
+  return 0;
+}
+
+/* Keep share `share` of the model's surfaces (and what bounds or is embedded
+ * in them; an entity of no surface stays with share 0), remove the rest;
+ * *empty when nothing is left to mesh here. */
+static int Share(Ctx *c, Driver *d, int share, int *empty)
+{
+  int     *ents = NULL, *pg = NULL, *parent = NULL, *owner = NULL, *to = NULL, ierr = 0, rc = 0, ncomp = 0;
+  size_t   nent = 0, npg = 0, ns = 0, nrem = 0;
+  Closure *cl = NULL;
+  double  *weight = NULL, load[M2D_SHARES] = {0};
+  int     *rem = NULL;
+  *empty = 0;
+  G.gmshModelGetPhysicalGroups(&pg, &npg, -1, &ierr);
+  G.gmshFree(pg);
+  c->share = 1, c->groups = (int)(npg / 2);
+  G.gmshModelGetEntities(&ents, &nent, 2, &ierr);
+  ns = nent / 2;
+  if (!(cl = (Closure *)calloc(ns + 1, sizeof(Closure))) || !(parent = (int *)malloc((ns + 1) * sizeof(int))) || !(owner = (int *)malloc((ns + 1) * sizeof(int))) || !(weight = (double *)calloc(ns + 1, sizeof(double))) || !(to = (int *)calloc(ns + 1, sizeof(int)))) rc = Fail(c, "out of memory");
+  for (size_t i = 0; i < ns && !rc; i++) { /* each surface's closure: boundary and embedded entities, down to points */
+    int   *emb = NULL;
+    size_t nemb = 0;
+    parent[i] = (int)i;
+    rc        = AddDown(c, &cl[i], 2, ents[2 * i + 1]);
+    G.gmshModelMeshGetEmbedded(2, ents[2 * i + 1], &emb, &nemb, &ierr);
+    for (size_t k = 0; k + 1 < nemb && !rc; k += 2) rc = AddDown(c, &cl[i], emb[k], emb[k + 1]);
+    G.gmshFree(emb);
+  }
+  for (size_t i = 0; i < ns && !rc; i++)
+    for (size_t j = i + 1; j < ns; j++)
+      if (Root(parent, (int)i) != Root(parent, (int)j) && Shared(&cl[i], &cl[j])) parent[Root(parent, (int)j)] = Root(parent, (int)i);
+  for (size_t i = 0; i < ns && !rc; i++) owner[i] = Root(parent, (int)i) == (int)i ? ncomp++ : -1; /* groups numbered in the order of their roots */
+  for (size_t i = 0; i < ns && !rc; i++) owner[i] = owner[Root(parent, (int)i)];
+  for (long q = 0; q < d->view.nquad && !rc && ncomp > 1; q++) { /* the cells each group is expected to get */
+    const long *n  = &d->view.quad[4 * q];
+    double      a  = 0, x = 0, y = 0, h;
+    int         ph = d->view.quadphys ? d->view.quadphys[q] : -1;
+    size_t      i  = 0;
+    for (int k = 0; k < 4; k++) {
+      const double *p = &d->view.xy[2 * n[k]], *r = &d->view.xy[2 * n[(k + 1) % 4]];
+      a += 0.5 * (p[0] * r[1] - r[0] * p[1]), x += 0.25 * p[0], y += 0.25 * p[1];
+    }
+    while (i < ns && ph >= 0 && !(ents[2 * i + 1] <= d->maxtag[2] && (d->surf[2][4 * ents[2 * i + 1]] == ph || d->surf[2][4 * ents[2 * i + 1] + 1] == ph || d->surf[2][4 * ents[2 * i + 1] + 2] == ph || d->surf[2][4 * ents[2 * i + 1] + 3] == ph))) i++;
+    h = M2dRemeshFieldEval(d->field, ph, x, y);
+    if (h > 0) weight[owner[i < ns ? i : 0]] += fabs(a) / (h * h);
+  }
+  for (int g = 0; g < ncomp && !rc; g++) { /* heaviest group first (the first of equals), to the lightest share (the first of equals) */
+    int best = -1, k = 0;
+    for (int i = 0; i < ncomp; i++)
+      if (weight[i] >= 0 && (best < 0 || weight[i] > weight[best])) best = i;
+    for (int j = 1; j < M2D_SHARES; j++)
+      if (load[j] < load[k]) k = j;
+    load[k] += weight[best] + 1e-300;
+    weight[best] = -1, to[best] = k;
+  }
+  if (!rc && !(rem = (int *)malloc(2 * (nent + 1) * sizeof(int)))) rc = Fail(c, "out of memory");
+  for (size_t i = 0; i < ns && !rc; i++) {
+    int mine = to[owner[i]] == share;
+    if (!mine) rem[2 * nrem] = 2, rem[2 * nrem++ + 1] = ents[2 * i + 1];
+  }
+  *empty = !rc && nrem == ns;
+  for (int dim = 1; dim >= 0 && !rc; dim--) { /* curves and points: those of a surface go with it, the others with share 0 */
+    int   *low = NULL;
+    size_t nlow = 0;
+    G.gmshModelGetEntities(&low, &nlow, dim, &ierr);
+    for (size_t e = 0; e + 1 < nlow; e += 2) {
+      size_t i = 0;
+      int    mine;
+      while (i < ns && !Has(&cl[i], Key(dim, low[e + 1]))) i++;
+      mine = (i < ns ? to[owner[i]] : 0) == share;
+      if (!mine) {
+        int *b = (int *)realloc(rem, 2 * (nrem + 1) * sizeof(int));
+        if (!b) {
+          rc = Fail(c, "out of memory");
+          break;
+        }
+        rem = b, rem[2 * nrem] = dim, rem[2 * nrem++ + 1] = low[e + 1];
+      }
+    }
+    G.gmshFree(low);
+  }
+  if (!rc && nrem) {
+    G.gmshModelRemoveEntities(rem, 2 * nrem, 0, &ierr);
+    if (ierr) rc = GmshError(c, ierr, "to leave out the other worker's surfaces");
+  }
+  for (size_t i = 0; cl && i < ns; i++) free(cl[i].key);
+  free(cl), free(parent), free(owner), free(weight), free(to), free(rem);
+  G.gmshFree(ents);
+  return rc;
+}
+
+/* share: this worker's share of the surfaces (0 .. M2D_SHARES - 1), -1: all */
+static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, MshMesh *out, M2dRemeshStats *st, double t0, int share)
 {
   int  ierr = 0, *ents = NULL, saved = -1;
   size_t nent = 0;
@@ -672,6 +831,11 @@ static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, Msh
   G.gmshFree(ents);
   if (!nent) return Fail(c, "it defines no surface");
   if ((in->hnode || in->hcell) && SetSizeField(c, in, d)) return 1;
+  if (share >= 0) {
+    int empty;
+    if (Share(c, d, share, &empty)) return 1;
+    if (empty) return 0; /* nothing to mesh here: an empty share */
+  }
   st->seconds_open = Now() - t0;
   Quiet(!in->verbose, &saved);
   G.gmshModelMeshGenerate(2, &ierr);
@@ -690,14 +854,15 @@ static int Run(Ctx *c, const M2dRemeshInput *in, const char *geo, Driver *d, Msh
  * a crash is one line. The first call forks one server (no MPI or PETSc call
  * there, none of the parent's signal handlers or open files besides stdin,
  * stdout and stderr), which initialises gmsh once and then, for each request
- * read from a socket, forks a worker of its own that meshes and answers: every
+ * read from a socket, forks a worker of its own (with a size field, one per
+ * share of the surfaces, at once: Share) that meshes and answers: every
  * mesh is made by a gmsh just out of gmshInitialize, as when each remeshing
  * had a process of its own (the same meshes to the bit), but the fork is of
  * the small server rather than of the program with its solver in memory, and
  * gmsh is initialised once. A worker's crash is told to the parent by the
- * server (which lives on); the server's own end (killed) is one line too, on
+ * server (which lives on; the first failed share's, when shared); the server's own end (killed) is one line too, on
  * the request that finds it gone and on every later one. The server and its
- * worker die with the parent (PR_SET_PDEATHSIG; an interrupt ends all three),
+ * workers die with the parent (PR_SET_PDEATHSIG; an interrupt ends them all),
  * the server also when the parent closes the socket (at exit); the temporary
  * .geo is the parent's (recorded, removed by the parent). */
 typedef struct {
@@ -806,7 +971,7 @@ static int Send(int fd, const Ctx *c, const MshMesh *m, const M2dRemeshStats *st
   return c->failed ? 0 : PutMesh(fd, m, r.k);
 }
 
-/* 0: a mesh or gmsh's error in c; 1: a reply that cannot be read */
+/* one worker's reply. 0: a mesh or gmsh's error in c; 1: a reply that cannot be read */
 static int Receive(Ctx *c, In *in, MshMesh *m, M2dRemeshStats *st)
 {
   Reply r;
@@ -817,8 +982,49 @@ static int Receive(Ctx *c, In *in, MshMesh *m, M2dRemeshStats *st)
     c->failed = 1;
     return 0;
   }
-  if (GetMesh(in, m, r.k) || in->pos != in->len) return 1;
+  if (GetMesh(in, m, r.k)) return 1;
   *st = r.st;
+  return 0;
+}
+
+/* b appended to a (a's nodes first), the physical groups merged; b freed */
+static int Join(Ctx *c, MshMesh *a, MshMesh *b)
+{
+  long   nn = a->nnode, tmax = 0;
+  size_t np = 0;
+  for (long q = 0; a->quadtag && q < a->nquad; q++) tmax = a->quadtag[q] > tmax ? a->quadtag[q] : tmax;
+#define GROW(f, n, T) \
+  if ((n) > 0) { \
+    T *g = (T *)realloc(a->f, (size_t)(n) * sizeof(T)); \
+    if (!g) return Fail(c, "out of memory"); \
+    a->f = g; \
+  }
+  GROW(xy, 2 * (a->nnode + b->nnode), double)
+  GROW(quad, 4 * (a->nquad + b->nquad), long)
+  GROW(quadtag, a->quadtag && b->quadtag ? a->nquad + b->nquad : 0, long)
+  GROW(quadphys, a->nquad + b->nquad, int)
+  GROW(line, 2 * (a->nline + b->nline), long)
+  GROW(linephys, a->nline + b->nline, int)
+  GROW(point, a->npoint + b->npoint, long)
+  GROW(pointphys, a->npoint + b->npoint, int)
+  GROW(phys, a->nphys + b->nphys, MshPhysical)
+#undef GROW
+  if (b->nnode) memcpy(a->xy + 2 * nn, b->xy, (size_t)(2 * b->nnode) * sizeof(double));
+  for (long i = 0; i < 4 * b->nquad; i++) a->quad[4 * a->nquad + i] = b->quad[i] + nn;
+  for (long q = 0; q < b->nquad; q++) {
+    if (a->quadtag && b->quadtag) a->quadtag[a->nquad + q] = b->quadtag[q] + tmax; /* element tags stay distinct */
+    a->quadphys[a->nquad + q] = b->quadphys[q];
+  }
+  for (long i = 0; i < 2 * b->nline; i++) a->line[2 * a->nline + i] = b->line[i] + nn;
+  for (long i = 0; i < b->nline; i++) a->linephys[a->nline + i] = b->linephys[i];
+  for (long i = 0; i < b->npoint; i++) a->point[a->npoint + i] = b->point[i] + nn, a->pointphys[a->npoint + i] = b->pointphys[i];
+  for (int i = 0; i < b->nphys; i++) {
+    int k = 0;
+    while (k < a->nphys && !(a->phys[k].dim == b->phys[i].dim && a->phys[k].tag == b->phys[i].tag)) k++;
+    if (k == a->nphys) a->phys[a->nphys + (int)np++] = b->phys[i];
+  }
+  a->nnode += b->nnode, a->nquad += b->nquad, a->nline += b->nline, a->npoint += b->npoint, a->nphys += (int)np;
+  MshFree(b);
   return 0;
 }
 
@@ -837,8 +1043,8 @@ static char *GetString(In *in, long n)
   return s;
 }
 
-/* the worker: one mesh by the gmsh the server initialised, the answer sent through fd */
-static void Worker(const Request *q, const char *name, const char *open_path, const char *msh, const MshMesh *prev, const double *h, const char *gmsh_err, int fd, pid_t server)
+/* the worker: one mesh (or share, -1: all) by the gmsh the server initialised, the answer sent through fd */
+static void Worker(const Request *q, int share, const char *name, const char *open_path, const char *msh, const MshMesh *prev, const double *h, const char *gmsh_err, int fd, pid_t server)
 {
   char           err[1024] = "";
   Ctx            c;
@@ -863,7 +1069,7 @@ static void Worker(const Request *q, const char *name, const char *open_path, co
     if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO), close(null);
   }
   if (gmsh_err[0]) Fail(&c, "%s", gmsh_err);
-  else Run(&c, &in, open_path, &d, &out, &st, q->t0);
+  else Run(&c, &in, open_path, &d, &out, &st, q->t0, share);
   _exit(Send(fd, &c, &out, &st) ? 3 : 0); /* no atexit handler of the parent's, no gmshFinalize: the process ends */
 }
 
@@ -912,11 +1118,11 @@ static void Server(int fd, pid_t parent)
     Request  q;
     MshMesh  prev;
     double  *h = NULL;
-    char    *name, *open_path, *msh, *buf;
-    int      w[2], status = 0;
-    size_t   nbuf = 0;
+    char    *name, *open_path, *msh, *buf[M2D_SHARES];
+    int      w[M2D_SHARES][2], nshare;
+    size_t   nbuf[M2D_SHARES];
     Frame    f;
-    pid_t    pid;
+    pid_t    pid[M2D_SHARES];
     memset(&prev, 0, sizeof(prev));
     if (ReadAll(fd, &q, sizeof(q))) _exit(0); /* the parent closed the socket, or is gone */
     name      = GetString(&in, q.lname);
@@ -926,24 +1132,37 @@ static void Server(int fd, pid_t parent)
       long nh = q.field == 1 ? q.k.nnode : q.k.nquad;
       if (GetMesh(&in, &prev, q.k) || nh < 0 || !(h = (double *)malloc((size_t)nh * sizeof(double) + 1)) || Get(&in, h, (size_t)nh * sizeof(double))) _exit(1);
     }
+    /* with a size field and no .msh to write: the surfaces in M2D_SHARES shares, a worker each, at once */
+    nshare = q.field && !msh ? M2D_SHARES : 1;
     memset(&f, 0, sizeof(f));
-    buf = NULL;
-    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, w)) f.kind = 3, f.code = errno;
-    else if ((pid = fork()) < 0) f.kind = 3, f.code = errno, close(w[0]), close(w[1]);
-    else if (pid == 0) {
-      close(fd), close(w[0]);
-      Worker(&q, name, open_path, msh, &prev, h, gmsh_err, w[1], self);
-    } else {
-      close(w[1]);
-      buf = Drain(w[0], &nbuf);
-      close(w[0]);
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) { }
-      if (WIFSIGNALED(status)) f.kind = 1, f.code = WTERMSIG(status);
-      else if (!WIFEXITED(status) || WEXITSTATUS(status) || !nbuf) f.kind = 2, f.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      else f.nbytes = nbuf;
+    for (int k = 0; k < nshare; k++) {
+      pid[k] = -1, buf[k] = NULL, nbuf[k] = 0;
+      if (f.kind) continue;
+      if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, w[k])) f.kind = 3, f.code = errno;
+      else if ((pid[k] = fork()) < 0) f.kind = 3, f.code = errno, close(w[k][0]), close(w[k][1]);
+      else if (pid[k] == 0) {
+        close(fd), close(w[k][0]);
+        for (int j = 0; j < k; j++) close(w[j][0]);
+        Worker(&q, nshare > 1 ? k : -1, name, open_path, msh, &prev, h, gmsh_err, w[k][1], self);
+      } else close(w[k][1]);
     }
-    if (WriteAll(fd, &f, sizeof(f)) || (f.nbytes && WriteAll(fd, buf, f.nbytes))) _exit(0);
-    free(buf), free(h), free(name), free(open_path), free(msh);
+    for (int k = 0; k < nshare; k++) { /* every worker started is waited for; the first failure is told */
+      int status = 0;
+      if (pid[k] <= 0) continue;
+      buf[k] = Drain(w[k][0], &nbuf[k]);
+      close(w[k][0]);
+      while (waitpid(pid[k], &status, 0) < 0 && errno == EINTR) { }
+      if (f.kind) continue;
+      if (WIFSIGNALED(status)) f.kind = 1, f.code = WTERMSIG(status);
+      else if (!WIFEXITED(status) || WEXITSTATUS(status) || !nbuf[k]) f.kind = 2, f.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      else f.nbytes += nbuf[k];
+    }
+    if (f.kind) f.nbytes = 0;
+    if (WriteAll(fd, &f, sizeof(f))) _exit(0);
+    for (int k = 0; k < nshare && f.nbytes; k++)
+      if (WriteAll(fd, buf[k], nbuf[k])) _exit(0);
+    for (int k = 0; k < nshare; k++) free(buf[k]);
+    free(h), free(name), free(open_path), free(msh);
     MshFree(&prev);
   }
 }
@@ -1028,11 +1247,26 @@ static int InServer(Ctx *c, const M2dRemeshInput *in, const char *geo, MshMesh *
     return Gone(c);
   }
   {
-    In r = {-1, buf, f.nbytes, 0};
+    In             r = {-1, buf, f.nbytes, 0};
+    MshMesh        more;
+    M2dRemeshStats s2;
     lost = Receive(c, &r, out, st);
+    while (!lost && !c->failed && r.pos < r.len) { /* the other shares, joined in order */
+      memset(&more, 0, sizeof(more));
+      memset(&s2, 0, sizeof(s2));
+      lost = Receive(c, &r, &more, &s2);
+      if (!lost && !c->failed) {
+        st->seconds_open     = fmax(st->seconds_open, s2.seconds_open);
+        st->seconds_generate = fmax(st->seconds_generate, s2.seconds_generate);
+        lost                 = Join(c, out, &more) ? 2 : 0;
+      }
+      MshFree(&more);
+    }
+    lost = lost == 1 || (!lost && !c->failed && r.pos != r.len);
   }
   free(buf);
   if (lost) return Fail(c, "gmsh ended without a mesh (a reply the program cannot read)");
+  if (!c->failed && !out->nquad) return Fail(c, "the mesh has no quadrilaterals");
   return c->failed;
 }
 
