@@ -7,6 +7,7 @@
  * Meshes from the build: ../meshes/<name>.msh (ctest runs in build/tests). */
 #include "msh.h"
 #include "remesh.h"
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -370,6 +371,126 @@ static void TestSizeField(void)
   M2dRemeshFieldDestroy(&f);
 }
 
+/* a mesh in a form that does not depend on the order of nodes and cells:
+ * every quad, line and point as the sorted coordinates of its nodes with its
+ * group, the lot sorted */
+typedef struct {
+  double c[8];
+  int    dim, phys;
+} Cell;
+
+static int CmpCell(const void *a, const void *b)
+{
+  const Cell *x = (const Cell *)a, *y = (const Cell *)b;
+  if (x->dim != y->dim) return x->dim - y->dim;
+  if (x->phys != y->phys) return x->phys - y->phys;
+  for (int k = 0; k < 8; k++)
+    if (x->c[k] != y->c[k]) return x->c[k] < y->c[k] ? -1 : 1;
+  return 0;
+}
+
+static int CmpLong(const void *a, const void *b)
+{
+  long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+static int CmpPoint(const void *a, const void *b)
+{
+  const double *x = (const double *)a, *y = (const double *)b;
+  return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] != y[1] ? (x[1] < y[1] ? -1 : 1) : 0;
+}
+
+static Cell *Canonical(const MshMesh *m, long *n)
+{
+  Cell *c = (Cell *)calloc((size_t)(m->nquad + m->nline + m->npoint + 1), sizeof(Cell));
+  *n      = 0;
+  for (int dim = 2; dim >= 0; dim--) {
+    long        ne = dim == 2 ? m->nquad : dim == 1 ? m->nline : m->npoint, nn = dim == 2 ? 4 : dim == 1 ? 2 : 1;
+    const long *node = dim == 2 ? m->quad : dim == 1 ? m->line : m->point;
+    const int  *phys = dim == 2 ? m->quadphys : dim == 1 ? m->linephys : m->pointphys;
+    for (long e = 0; e < ne; e++, (*n)++) {
+      Cell *x = &c[*n];
+      x->dim = dim, x->phys = phys[e];
+      for (int k = 0; k < 4; k++) x->c[2 * k] = x->c[2 * k + 1] = 1e300;
+      for (int k = 0; k < nn; k++) x->c[2 * k] = m->xy[2 * node[nn * e + k]], x->c[2 * k + 1] = m->xy[2 * node[nn * e + k] + 1];
+      qsort(x->c, (size_t)nn, 2 * sizeof(double), CmpPoint);
+    }
+  }
+  qsort(c, (size_t)*n, sizeof(Cell), CmpCell);
+  return c;
+}
+
+/* the nodes of body a's quads all before those of body b's, or all after */
+static int NodesApart(const MshMesh *m, int a, int b)
+{
+  long lo[2] = {LONG_MAX, LONG_MAX}, hi[2] = {-1, -1};
+  for (long q = 0; q < 4 * m->nquad; q++) {
+    int k = m->quadphys[q / 4] == a ? 0 : m->quadphys[q / 4] == b ? 1 : -1;
+    if (k < 0) continue;
+    lo[k] = m->quad[q] < lo[k] ? m->quad[q] : lo[k];
+    hi[k] = m->quad[q] > hi[k] ? m->quad[q] : hi[k];
+  }
+  return hi[0] < lo[1] || hi[1] < lo[0];
+}
+
+/* Three surfaces, two of them sharing a curve (one body), the third apart:
+ * with a size field the surfaces go to two gmsh workers (remesh.c, Share)
+ * and the meshes are joined; without the split (a .msh to write keeps one
+ * worker) the mesh is the same up to the order of nodes and cells, the shared
+ * curve's nodes once, element tags distinct. */
+static void TestShares(void)
+{
+  const char *text = "lc = 0.25;\n"
+                     "Point(1) = {0,0,0,lc}; Point(2) = {1,0,0,lc}; Point(3) = {2,0,0,lc}; Point(4) = {2,1,0,lc}; Point(5) = {1,1,0,lc}; Point(6) = {0,1,0,lc};\n"
+                     "Line(1) = {1,2}; Line(2) = {2,5}; Line(3) = {5,6}; Line(4) = {6,1}; Line(5) = {2,3}; Line(6) = {3,4}; Line(7) = {4,5};\n"
+                     "Curve Loop(1) = {1,2,3,4}; Plane Surface(1) = {1}; Curve Loop(2) = {5,6,7,-2}; Plane Surface(2) = {2};\n"
+                     "Point(7) = {3,0,0,lc}; Point(8) = {4,0,0,lc}; Point(9) = {4,1,0,lc}; Point(10) = {3,1,0,lc};\n"
+                     "Line(8) = {7,8}; Line(9) = {8,9}; Line(10) = {9,10}; Line(11) = {10,7}; Curve Loop(3) = {8,9,10,11}; Plane Surface(3) = {3};\n"
+                     "Mesh.RecombineAll = 1; Mesh.SubdivisionAlgorithm = 1;\n"
+                     "Physical Surface(\"left\") = {1,2}; Physical Surface(\"right\") = {3};\n"
+                     "Physical Curve(\"mid\") = {2}; Physical Curve(\"bottom\") = {1,5,8}; Physical Point(\"corner\") = {8};\n";
+  char           geo[] = "/tmp/m2d_test_shares_XXXXXX.geo", msh[] = "/tmp/m2d_test_shares_XXXXXX.msh", err[1024];
+  M2dRemeshInput in = {0};
+  MshMesh        prev, one, two;
+  double        *h;
+  long           n1, n2, dup = 0;
+  Cell          *c1, *c2;
+  NewGeo(geo, text);
+  close(mkstemps(msh, 4));
+  in.geo = geo;
+  if (Remesh(&in, &prev, err)) goto out;
+  h = (double *)malloc((size_t)prev.nnode * sizeof(double));
+  for (long i = 0; i < prev.nnode; i++) h[i] = 0.04 + 0.04 * prev.xy[2 * i];
+  in.prev = &prev, in.hnode = h;
+  if (Remesh(&in, &two, err)) goto done;
+  in.write_msh = msh;
+  if (Remesh(&in, &one, err)) {
+    MshFree(&two);
+    goto done;
+  }
+  c1 = Canonical(&one, &n1), c2 = Canonical(&two, &n2);
+  {
+    long *t = (long *)malloc((size_t)two.nquad * sizeof(long)); /* element tags: the joined shares' stay distinct */
+    memcpy(t, two.quadtag, (size_t)two.nquad * sizeof(long));
+    qsort(t, (size_t)two.nquad, sizeof(long), CmpLong);
+    for (long q = 0; q + 1 < two.nquad; q++) dup += t[q] == t[q + 1];
+    free(t);
+  }
+  printf("     shares: %ld nodes, %ld quads (one worker: %ld, %ld)\n", two.nnode, two.nquad, one.nnode, one.nquad);
+  CHECK(one.nnode == two.nnode && n1 == n2 && !memcmp(c1, c2, (size_t)n1 * sizeof(Cell)), "two workers' meshes joined = one worker's mesh, up to the order (nodes %ld/%ld, cells %ld/%ld)", two.nnode, one.nnode, n2, n1);
+  CHECK(NodesApart(&two, PhysTag(&two, 2, "left"), PhysTag(&two, 2, "right")) && !NodesApart(&one, PhysTag(&one, 2, "left"), PhysTag(&one, 2, "right")),
+        "meshed in two shares (each body's nodes in one block), one worker numbers them as gmsh does (the points of every surface first)");
+  CHECK(two.nquad > 2 * prev.nquad && BodiesSeparate(&two) && MinJacobian(&two) > 0 && PhysTag(&two, 1, "mid") > 0 && PhysTag(&two, 0, "corner") > 0 && two.nphys == one.nphys && !dup, "the field refined it (%ld -> %ld quads), groups kept (%d), no element tag twice (%ld)", prev.nquad, two.nquad, two.nphys, dup);
+  free(c1), free(c2);
+  MshFree(&one), MshFree(&two);
+done:
+  free(h);
+  MshFree(&prev);
+out:
+  unlink(geo), unlink(msh);
+}
+
 static void TestQuality(void)
 {
   double         xy[8] = {0, 0, 2, 0, 1, 1, 0, 1};
@@ -398,6 +519,7 @@ int main(void)
   TestPatchField();
   TestHertzField();
   TestHertzPerBody();
+  TestShares();
   printf("%s\n", failures ? "FAILED" : "all passed");
   return failures ? 1 : 0;
 }
