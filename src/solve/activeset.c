@@ -55,6 +55,13 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   else if (it >= maxit) *reason = SNES_DIVERGED_MAX_IT;
   as->unchanged_before = (PetscBool)(k > 0 && same);
   as->fnorm_prev       = fnorm;
+  if (as->iter && !as->proving && it > 0) { /* sets taken from inexact solves that send |F| up: proven from here */
+    if (it > 1 && fnorm > M2D_RISE * as->fbest) {
+      as->proving = PETSC_TRUE;
+      PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": |F| %.3e, %.0f times the least since step 1: each step's set proven from here\n", it, (double)fnorm, (double)(fnorm / as->fbest)));
+    }
+    as->fbest = it == 1 ? fnorm : PetscMin(as->fbest, fnorm);
+  }
   PetscFunctionReturn(0);
 }
 

@@ -158,22 +158,25 @@ static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure,
 }
 
 /* *held when the set test m tells (active where m >= 0) leaves no body free;
- * uses m[1] and as->all. Collective. */
+ * uses as->all. Collective. */
 static PetscErrorCode TellsHeldSet(M2dActiveSet *as, Vec m, PetscBool *held)
 {
   const PetscScalar *a;
   PetscScalar       *b;
   PetscInt           n;
+  Vec                mask;
 
   PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(m, &mask));
   PetscCall(VecGetLocalSize(m, &n));
   PetscCall(VecGetArrayRead(m, &a));
-  PetscCall(VecGetArrayWrite(as->m[1], &b));
+  PetscCall(VecGetArrayWrite(mask, &b));
   for (PetscInt j = 0; j < n; j++) b[j] = PetscRealPart(a[j]) >= 0 ? 1.0 : 0.0;
-  PetscCall(VecRestoreArrayWrite(as->m[1], &b));
+  PetscCall(VecRestoreArrayWrite(mask, &b));
   PetscCall(VecRestoreArrayRead(m, &a));
-  PetscCall(VecScatterBegin(as->toall, as->m[1], as->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(as->toall, as->m[1], as->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(as->toall, mask, as->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(as->toall, mask, as->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecDestroy(&mask));
   PetscCall(VecGetArrayRead(as->all, &a));
   PetscCall(M2dSupportsHeld(&as->pb->supports, PetscObjectComm((PetscObject)m), &as->pb->contact, a, held));
   PetscCall(VecRestoreArrayRead(as->all, &a));
@@ -185,7 +188,9 @@ static PetscErrorCode TellsHeldSet(M2dActiveSet *as, Vec m, PetscBool *held)
  * solve tells is taken as the next one when it differs from the step's own
  * and holds every body: a node it got wrong is put right by the next step,
  * whose solve tells it again (inexact Newton; the sets visited may differ
- * from the complete solves', their end does not). Otherwise the step is
+ * from the complete solves', their end does not): from a cold start only
+ * (ActiveSetSetupIterative), and until |F| rises or the sets cycle
+ * (activeset.c, activeset_step.c). Otherwise the step is
  * completed to -iterative_ksp_rtol: the last step's answer is a complete
  * solve's, and a set that would free a body is judged on a complete solve.
  * With -iterative_prove (or once the sets have cycled) CG goes on instead
@@ -278,6 +283,10 @@ PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as)
   PetscCall(VecDuplicate(as->lam, &as->cdu));
   PetscCall(VecDuplicate(as->lam, &as->m[0]));
   PetscCall(VecDuplicate(as->lam, &as->m[1]));
+  /* a start from the previous mesh's set is near the answer, where an inexact
+   * solve's set is the least to be trusted (many nodes near the switch: the
+   * adaptive punch wandered for 50 steps): every set proven, as before */
+  as->proving = (PetscBool)(as->pb->warm != NULL);
   PetscCall(SetStepPC(snes, as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }

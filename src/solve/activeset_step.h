@@ -11,6 +11,7 @@
 #include <petscsnes.h>
 
 #define M2D_MAX_HISTORY 1024
+#define M2D_RISE        4.0 /* iterative path: |F| this many times its least since step 1 ends the steps on unproven sets */
 
 /* the sets visited, to detect cycling: a hash and a count per step */
 typedef struct {
@@ -42,7 +43,8 @@ typedef struct {
   Vec           all;     /* the mask on every rank (the held-bodies check) */
   VecScatter    toall;
   PetscInt      step;    /* active-set steps taken */
-  PetscBool     proving; /* iterative path: every step's set proven (after a cycle) */
+  PetscBool     proving; /* iterative path: every step's set proven (after a cycle or a rise of |F|) */
+  PetscReal     fbest;   /* iterative path: the least |F| since step 1 */
   PetscInt      unproven; /* iterative path: steps that took an inexact solve's set */
 } M2dActiveSet;
 
