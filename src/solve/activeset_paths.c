@@ -210,7 +210,7 @@ static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
   PetscCall(M2dIterativeSolve(as->iter, b, tol, y));
   if (tol <= ii.rtol) PetscFunctionReturn(0);
   PetscCall(NextTest(as, y, as->m[0]));
-  if (!ii.prove && !as->proving) {
+  if (!as->proving) {
     PetscCall(NextSet(as, as->m[0], as->m[0], &sure, &same)); /* only *same is wanted */
     if (!same) PetscCall(TellsHeldSet(as, as->m[0], &held));
     if (!same && held) as->unproven++;
@@ -277,16 +277,19 @@ PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSet
  * set up by ActiveSetJacobian for the step's set */
 PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as)
 {
+  M2dIterativeInfo ii;
+
   PetscFunctionBeginUser;
   PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
   PetscCall(VecDuplicate(as->u, &as->du));
   PetscCall(VecDuplicate(as->lam, &as->cdu));
   PetscCall(VecDuplicate(as->lam, &as->m[0]));
   PetscCall(VecDuplicate(as->lam, &as->m[1]));
-  /* a start from the previous mesh's set is near the answer, where an inexact
-   * solve's set is the least to be trusted (many nodes near the switch: the
-   * adaptive punch wandered for 50 steps): every set proven, as before */
-  as->proving = (PetscBool)(as->pb->warm != NULL);
+  /* -iterative_prove; or a start from the previous mesh's set: it is near the
+   * answer, where an inexact solve's set is the least to be trusted (many
+   * nodes near the switch: the adaptive punch wandered for 50 steps) */
+  PetscCall(M2dIterativeGetInfo(as->iter, &ii));
+  as->proving = (PetscBool)(ii.prove || as->pb->warm != NULL);
   PetscCall(SetStepPC(snes, as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }

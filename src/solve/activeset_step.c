@@ -121,13 +121,9 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
   for (PetscInt k = 0; k + 1 < hi->n && !(hi->hash[hi->n - 1] == h && hi->count[hi->n - 1] == as->nactive); k++)
     if (hi->hash[k] == h && hi->count[k] == as->nactive) {
       if (as->iter && !as->proving) { /* an inexact step's set may have been wrong: prove the sets from here before raising c */
-        M2dIterativeInfo ii;
-        PetscCall(M2dIterativeGetInfo(as->iter, &ii));
-        if (!ii.prove) {
-          as->proving = PETSC_TRUE;
-          PetscCall(PetscPrintf(comm, "  active set back to the set of step %" PetscInt_FMT " at step %" PetscInt_FMT ": each step's set proven from here\n", k, as->step));
-          break;
-        }
+        as->proving = PETSC_TRUE;
+        PetscCall(PetscPrintf(comm, "  active set back to the set of step %" PetscInt_FMT " at step %" PetscInt_FMT ": each step's set proven from here\n", k, as->step));
+        break;
       }
       if (++hi->cycles > hi->max_cycles) {
         hi->failed = PETSC_TRUE;

@@ -43,7 +43,7 @@ typedef struct {
   Vec           all;     /* the mask on every rank (the held-bodies check) */
   VecScatter    toall;
   PetscInt      step;    /* active-set steps taken */
-  PetscBool     proving; /* iterative path: every step's set proven (after a cycle or a rise of |F|) */
+  PetscBool     proving; /* iterative path: every step's set proven (-iterative_prove, a warm start, or after a cycle or a rise of |F|) */
   PetscReal     fbest;   /* iterative path: the least |F| since step 1 */
   PetscInt      unproven; /* iterative path: steps that took an inexact solve's set */
 } M2dActiveSet;
