@@ -218,6 +218,23 @@ static PetscErrorCode Ring(M2dIterative *it, PetscInt *n, PetscInt **z)
   PetscFunctionReturn(0);
 }
 
+/* the contact rows' unknowns with `layers` rings of neighbours (z, n) and
+ * one ring more (h, nh): sorted, the same on every rank */
+static PetscErrorCode RowsAndRings(M2dIterative *it, PetscInt layers, PetscInt *n, PetscInt **z, PetscInt *nh, PetscInt **h)
+{
+  PetscFunctionBeginUser;
+  *n = it->el.rowptr[it->el.nrow];
+  PetscCall(PetscMalloc1(*n + 1, z));
+  PetscCall(PetscArraycpy(*z, it->el.rowcol, *n));
+  PetscCall(PetscSortRemoveDupsInt(n, *z));
+  for (PetscInt l = 0; l < layers; l++) PetscCall(Ring(it, n, z));
+  *nh = *n;
+  PetscCall(PetscMalloc1(*n + 1, h));
+  PetscCall(PetscArraycpy(*h, *z, *n));
+  PetscCall(Ring(it, nh, h));
+  PetscFunctionReturn(0);
+}
+
 /* The rows of Ar = P^T K P that a set can change: those of the contact rows'
  * unknowns (slaves and masters) and of their neighbours (a slave's column of
  * K reaches them), one ring; outside them Ar is K. Their columns lie in one
@@ -225,17 +242,10 @@ static PetscErrorCode Ring(M2dIterative *it, PetscInt *n, PetscInt **z)
  * those rows of Ar are the same rows of Pu^T Ku Pu, P and K cut to upd2. */
 static PetscErrorCode UpdateCreate(M2dIterative *it)
 {
-  PetscInt n = it->el.rowptr[it->el.nrow], n2, *z, *z2;
+  PetscInt n, n2, *z, *z2;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(n + 1, &z));
-  PetscCall(PetscArraycpy(z, it->el.rowcol, n));
-  PetscCall(PetscSortRemoveDupsInt(&n, z));
-  PetscCall(Ring(it, &n, &z));
-  n2 = n;
-  PetscCall(PetscMalloc1(n + 1, &z2));
-  PetscCall(PetscArraycpy(z2, z, n));
-  PetscCall(Ring(it, &n2, &z2));
+  PetscCall(RowsAndRings(it, 1, &n, &z, &n2, &z2));
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->upd));
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n2, z2, PETSC_OWN_POINTER, &it->upd2));
   PetscCall(MatCreateSubMatrices(it->K, 1, &it->upd2, &it->upd2, MAT_INITIAL_MATRIX, &it->Ku));
@@ -295,18 +305,11 @@ static PetscErrorCode UpdateRows(M2dIterative *it)
  * neighbours); the zone's rows couple only to the halo. */
 static PetscErrorCode ZoneCreate(M2dIterative *it, PetscInt layers)
 {
-  PetscInt n = it->el.rowptr[it->el.nrow], nh, *z, *h, *pos;
+  PetscInt n, nh, *z, *h, *pos;
   IS       isz;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(n + 1, &z));
-  PetscCall(PetscArraycpy(z, it->el.rowcol, n));
-  PetscCall(PetscSortRemoveDupsInt(&n, z));
-  for (PetscInt l = 0; l < layers; l++) PetscCall(Ring(it, &n, &z));
-  nh = n;
-  PetscCall(PetscMalloc1(n + 1, &h));
-  PetscCall(PetscArraycpy(h, z, n));
-  PetscCall(Ring(it, &nh, &h));
+  PetscCall(RowsAndRings(it, layers, &n, &z, &nh, &h));
   PetscCall(PetscMalloc1(n + 1, &pos)); /* the zone's places in the halo */
   for (PetscInt i = 0; i < n; i++) PetscCall(PetscFindInt(z[i], nh, h, &pos[i]));
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, z, PETSC_OWN_POINTER, &it->zone));
