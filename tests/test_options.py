@@ -203,6 +203,8 @@ for what, args, culprits in [
         ("-geo_setnumber without -adapt", BLOCK + ["-geo_setnumber", "n=8"], ["option -geo_setnumber has no effect without -adapt"]),
         ("-mortar_basis dual -contact_method nts", PATCH + ["-mortar_basis", "dual", "-contact_method", "nts"], ["option -mortar_basis has no effect with -contact_method nts"]),
         ("-iterative_ksp_rtol off the iterative path", PATCH + ["-iterative_ksp_rtol", "1e-8"], ["option -iterative_ksp_rtol has no effect on the condensed path"]),
+        ("-iterative_inexact off the iterative path", PATCH + ["-iterative_inexact", "0.2"], ["option -iterative_inexact has no effect on the condensed path"]),
+        ("-iterative_prove on the tied path", PATCH + ["-contact_unilateral", "0", "-mortar_basis", "dual", "-kkt_path", "iterative", "-iterative_prove"], ["option -iterative_prove has no effect on the tied path"]),
         ("-pc_type on the condensed path", PATCH + ["-pc_type", "lu"], ["option -pc_type has no effect on the condensed path", "-kkt_path full"]),
         ("PETSc's MUMPS option on the condensed path", PATCH + ["-mat_mumps_cntl_1", "0.01"], ["option -mat_mumps_cntl_1 has no effect on the condensed path"]),
         ("-snes_rtol on the tied path", PATCH + ["-contact_unilateral", "0", "-snes_rtol", "1e-8"], ["option -snes_rtol has no effect on the tied path"]),

@@ -50,6 +50,7 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, M2dSolverPat
 
   PetscFunctionBeginUser;
   if (path != M2D_PATH_CONDENSED) PetscCall(M2dOptionsNoEffect(comm, "-kkt_ldlt", "%s", why));
+  if (path != M2D_PATH_ITERATIVE) PetscCall(M2dOptionsNoEffect(comm, "-iterative_inexact -iterative_prove -iterative_reuse -iterative_zone", "%s", why)); /* read by the active set's iterative solver only */
   if (!auto_path) PetscCall(M2dOptionsNoEffect(comm, "-kkt_condensed_max", "%s", path == M2D_PATH_CONDENSED || path == M2D_PATH_FULL ? "with -kkt_path, -kkt_mat nest or -snes_type vinewtonrsls (the path is not chosen by the contact surface's length)" : why));
   if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) {
     PetscCall(M2dOptionsNoEffect(comm, "snes_*", "%s", why));
