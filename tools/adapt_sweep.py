@@ -3,7 +3,7 @@
 non-mortar, 1 and 2 ranks: what the loop gives when asked for more.
 
     /usr/bin/python3 tools/adapt_sweep.py [--out DIR] [--targets 0.1,0.04,...]
-        [--scenes hertz,hertz_two,seed_patch,punch] [--ranks 1,2] [--png FILE]
+        [--scenes hertz,hertz_two,seed_patch,punch] [--ranks 1,2] [--png FILE] [--args "OPTIONS"]
 
 Scenes (options files as they are, with -adapt_target T; the cap 5e4 dofs):
   hertz       options/hertz_adapt.opts       error: against Hertz, and against
@@ -121,6 +121,7 @@ def main():
     ap.add_argument("--scenes", default="hertz,hertz_two,punch,seed_patch")
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--png", default=os.path.join(SRC, "docs", "adapt_sweep.png"))
+    ap.add_argument("--args", default="", help="more options for every adaptive run (not the references), space separated")
     args = ap.parse_args()
     os.makedirs(os.path.join(args.out, "ref"), exist_ok=True)
     targets = args.targets.split(",")
@@ -139,7 +140,7 @@ def main():
         for side, extra in (("given", []), ("swapped", sc["swap"])):
             for ranks in [int(r) for r in args.ranks.split(",")]:
                 for t in targets:
-                    s, csv_path, wall = run("%s_%s_%d_%s" % (name, side, ranks, t), ["-options_file", m2d.opts(sc["opts"]), "-adapt_target", t] + extra, args.out, ranks)
+                    s, csv_path, wall = run("%s_%s_%d_%s" % (name, side, ranks, t), ["-options_file", m2d.opts(sc["opts"]), "-adapt_target", t] + extra + args.args.split(), args.out, ranks)
                     lo, hi = window(sc["zone"], s, ref_csv)
                     steps = s["adapt"]
                     rip20 = max([a.get("pressure_ripple", 0) for a in steps if a.get("active_nodes", 0) >= 20] or [0])
