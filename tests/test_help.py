@@ -27,7 +27,7 @@ OURS = ["-mesh", "-mesh_dir", "-mesh_scale", "-mesh_partitioner", "-mesh_check",
         "-lower_E", "-lower_nu", "-upper_E", "-upper_nu"]
 # defaults that are part of the documented behaviour (README)
 DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-output_name": "solution",
-            "-lower_E": "1.", "-lower_nu": "0.3", "-kkt_path": "condensed", "-kkt_condensed_max": "8000", "-kkt_ordering": "metis",
+            "-lower_E": "1.", "-lower_nu": "0.3", "-kkt_path": "condensed", "-kkt_condensed_max": "8000", "-kkt_ordering": "auto",
             "-kkt_ldlt": "TRUE", "-mat_mumps_icntl_14": "20", "-mesh_partitioner": "metis", "-mesh_check": "FALSE",
             "-contact_c": "auto", "-contact_reach": "auto", "-hertz_load": "auto", "-exact_p": "auto",
             "-hertz_radius": "1.", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",

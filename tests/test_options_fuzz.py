@@ -233,7 +233,7 @@ def known_values(name, sc):
         "-contact_reach": real_values([("auto", A), ("0.5", A), ("10", A)], invalid=["0", "-1"], boundary=["1e-3", "1e-12", "1e300"], odd_keeps=L),
         "-kkt_mat": choice_values([("aij", A)], odd=["nest"], odd_keeps=A),
         "-kkt_path": choice_values([("full", A)], odd=["condensed"], odd_keeps=A),
-        "-kkt_ordering": choice_values([("metis", A), ("mumps", A)]),
+        "-kkt_ordering": choice_values([("metis", A), ("mumps", A), ("auto", A)]),
         "-kkt_ldlt": bool_values(),
         "-mat_mumps_icntl_4": int_values(["0", "1", "2"], odd=["3", "4", "6"]),
         "-mat_mumps_icntl_7": int_values(["0", "2", "5", "7"], odd=["1", "3", "4", "6", "8"]),

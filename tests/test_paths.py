@@ -11,7 +11,9 @@
    interface), with the same steps, active set and fields (to 1e-9) as one
    rank's full path, for both orderings; its recovered displacement
    satisfies the u rows as well; 3 ranks (a rank with neighbours on both
-   sides) with the METIS ordering give the same."""
+   sides) with the METIS ordering give the same;
+ - -kkt_ordering auto (the default) orders Hertz level 2 (16,516 dofs) with
+   MUMPS' own and level 4 (249,348) with METIS (the summary's kkt_ordering)."""
 import numpy as np
 from m2d import check, mesh, opts, read_h5, solve, sorted_fields, workdir
 
@@ -47,6 +49,10 @@ for name, base in cases:
 s = solve("paths_monitor", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_2")])
 check(s["kkt_path"] == "condensed" and s["residual_rel"] < 1e-10, "condensed: |K u + C^T lambda - f| / |f| = %.2e" % s["residual_rel"])
 check(s["complementarity"] < 1e-10, "condensed: complementarity %.2e" % s["complementarity"])
+# -kkt_ordering auto (the default): MUMPS' own below 2e5 dofs, METIS from there
+s4 = solve("paths_auto_l4", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_4"), "-output_vtu", "0", "-error_estimate", "0"])
+check(s["dofs"] < 200000 and s.get("kkt_ordering") == "mumps", "auto ordering: %d dofs ordered by %s (mumps below 2e5)" % (s["dofs"], s.get("kkt_ordering")))
+check(s4["dofs"] >= 200000 and s4.get("kkt_ordering") == "metis", "auto ordering: %d dofs ordered by %s (metis from 2e5)" % (s4["dofs"], s4.get("kkt_ordering")))
 
 # two ranks: the condensed path, both orderings, against one rank's full path
 for name, base in cases:

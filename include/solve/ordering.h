@@ -19,7 +19,13 @@
 #define M2D_ORDERING_H
 #include <petscksp.h>
 
-typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS } M2dOrdering;
+typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS, M2D_ORDERING_AUTO } M2dOrdering;
+/* -kkt_ordering auto: MUMPS' own below this many dofs, METIS from there. On
+ * Hertz and S1 meshes of 1.6e4-2.6e5 dofs (docs/speed.md) MUMPS' AMD ordered,
+ * analysed and factored in 0.66-0.93 of METIS' time (libmetis' nested
+ * dissection costs about what it saves in the factorization), level 5 (9.9e5)
+ * about the same; METIS' factors are the smaller (half the flops at 2.5e5). */
+#define M2D_ORDERING_AUTO_DOFS 200000
 #define MATORDERINGM2DMETIS "m2d_metis"
 
 /* Pivot positions of the rows of the sequential AIJ matrix A (a permutation,
@@ -33,4 +39,7 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos);
  * AMF (ICNTL(7) = 2) unless -mat_mumps_icntl_7 is given. Other PCs: nothing.
  * Collective on the KSP's communicator. */
 PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *metis);
+/* The ordering ord means for a problem of dofs unknowns (the whole problem's,
+ * so every rank decides alike): auto resolved, the others as they are. */
+M2dOrdering M2dOrderingFor(M2dOrdering ord, PetscInt dofs);
 #endif

@@ -283,15 +283,15 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
 {
   const char *const mats[]  = {"aij", "nest"}; /* order of M2dKKTMat */
   const char *const paths[] = {"full", "condensed", "iterative"}; /* order of M2dKKTPath */
-  const char *const ords[]  = {"mumps", "metis"}; /* order of M2dOrdering */
+  const char *const ords[]  = {"mumps", "metis", "auto"}; /* order of M2dOrdering */
 
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, (PetscEnum *)&s->kkt_mat));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_path", "solves: condensed (factor once), full (KKT each step) or iterative (CG + AMG in u)", paths, 3, (PetscEnum *)&s->kkt_path));
-  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_ordering", "fill-reducing ordering for MUMPS: metis (nested dissection) or mumps (its own)", ords, 2, (PetscEnum *)&s->kkt_ordering));
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_ordering", "ordering for MUMPS: metis (nested dissection), mumps (its own), auto (mumps below 2e5 dofs)", ords, 3, (PetscEnum *)&s->kkt_ordering));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2); false: LU", s->kkt_ldlt, &s->kkt_ldlt));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_4", "condensed path's MUMPS ICNTL(4): output level, 0 to 4", s->icntl4, &s->icntl4, NULL));
-  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_7", "condensed path's MUMPS ICNTL(7) with -kkt_ordering mumps: ordering, 0 or 2 to 7", s->icntl7, &s->icntl7, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_7", "condensed path's MUMPS ICNTL(7) when MUMPS orders (-kkt_ordering): ordering, 0 or 2 to 7", s->icntl7, &s->icntl7, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_8", "condensed path's MUMPS ICNTL(8): scaling, -2, 0, 1, 3, 4, 7, 8 or 77", s->icntl8, &s->icntl8, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_14", "condensed path's MUMPS ICNTL(14): working-space increase in percent, >= 0", s->icntl14, &s->icntl14, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_58", "condensed path's MUMPS ICNTL(58): symbolic factorization, 1 or 2", s->icntl58, &s->icntl58, NULL));
@@ -333,7 +333,7 @@ static PetscErrorCode Defaults(M2dScene *s)
     .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
     .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
-    .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_METIS, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
+    .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_AUTO, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
     .out = {.dir = "output", .name = "solution", .h5 = PETSC_TRUE, .vtu = PETSC_TRUE, .csv = PETSC_TRUE, .summary = PETSC_TRUE},
   };

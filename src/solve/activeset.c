@@ -313,7 +313,7 @@ static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path,
   else if (path != M2D_PATH_ITERATIVE) {
     KSP ksp;
     PetscCall(SNESGetKSP(snes, &ksp));
-    PetscCall(M2dOrderingSetupKSP(ksp, as->pb->s.kkt_ordering, NULL));
+    PetscCall(M2dOrderingSetupKSP(ksp, M2dOrderingFor(as->pb->s.kkt_ordering, 2 * as->pb->mesh.nvert_global), NULL));
   }
   PetscFunctionReturn(0);
 }

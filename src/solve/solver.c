@@ -180,7 +180,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   if (pb->s.kkt_path == M2D_KKT_PATH_ITERATIVE) PetscFunctionReturn(SolveLinearIterative(pb, sol));
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)pb->K), &ksp));
   PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
-  PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
+  PetscCall(SetupLinearKSP(ksp, M2dOrderingFor(pb->s.kkt_ordering, 2 * pb->mesh.nvert_global)));
   if (contact) PetscCall(KKTSetupKSP(&pb->kkt, ksp));
   PetscCall(M2dOptionsCheckUnused(PetscObjectComm((PetscObject)ksp), ProblemPathSays(&pb->s, sol->path))); /* the solver is configured: an option nobody read is a typo */
   if (contact) {
