@@ -19,11 +19,15 @@ eliminated row by row and CG + GAMG in u.
     proven, and with steps so inexact that the sets return to an earlier one
     (0.7) or |F| rises (0.9) (then proven from there: a line says so), the
     answer is the same (set, fields to 1e-8); the adaptive punch's warm
-    starts take no unproven set and give the condensed path's answer; the defaults take fewer Krylov iterations
+    starts take no unproven set, at most one step more per mesh than the
+    condensed path (a warm start's first step complete), and give the
+    condensed path's answer; the defaults take fewer Krylov iterations
     and fewer AMG set-ups than complete steps with a new AMG each (Hertz
     level 2, 1 and 2 ranks);
  7. a bad value of -iterative_inexact, -iterative_reuse, -iterative_zone is
     one line naming the option (1 and 2 ranks)."""
+import json
+
 import numpy as np
 from m2d import check, csv_columns, mesh, opts, run, solve, sorted_fields, workdir
 
@@ -119,9 +123,13 @@ ref_csv = None
 for path in ("condensed", "iterative"):
     rc, out, err = run(punch + ["-kkt_path", path, "-output_dir", workdir("iter_punch_%s" % path)])
     cols = csv_columns(workdir("iter_punch_%s" % path) + "/sol_contact.csv")
+    steps = [a["iterations"] for a in json.load(open(workdir("iter_punch_%s" % path) + "/sol_summary.json"))["adapt"]]
     if path == "condensed":
-        ref_csv = cols
+        ref_csv, ref_steps = cols, steps
         continue
+    # a warm start's first step is complete: the steps of the condensed path (before: 12 on each later mesh)
+    check(len(steps) == len(ref_steps) and all(k <= r + 1 for k, r in zip(steps[1:], ref_steps[1:])),
+          "adaptive punch on the iterative path: active-set steps per mesh %s, at most one more than the condensed path's %s after the first mesh" % (steps, ref_steps))
     unproven = [int(ln.split(" steps on an inexact")[0].split(", ")[-1]) for ln in out.splitlines() if "steps on an inexact solve's set" in ln]
     dp = max(abs(x - y) for x, y in zip(cols["pressure"], ref_csv["pressure"])) / max(abs(x) for x in ref_csv["pressure"])
     check(len(unproven) >= 2 and all(u == 0 for u in unproven[1:]) and list(cols["active"]) == list(ref_csv["active"]) and dp < 1e-8,

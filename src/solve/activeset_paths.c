@@ -207,6 +207,12 @@ static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
   PetscFunctionBeginUser;
   PetscCall(M2dIterativeGetInfo(as->iter, &ii));
   tol = PetscMax(ii.inexact, ii.rtol);
+  /* a warm start's first step: complete. Its set is the previous mesh's, near
+   * the answer, and the step starts from u = 0, so the tests sit near their
+   * switch while CG's error is still of the whole load: two refinements
+   * agreeing (NextSet) did not make the set sure there (the adaptive punch:
+   * 66 of 125 nodes dropped, 12 steps where complete solves take 3) */
+  if (as->pb->warm && as->step == 1) tol = ii.rtol;
   PetscCall(M2dIterativeSolve(as->iter, b, tol, y));
   if (tol <= ii.rtol) PetscFunctionReturn(0);
   PetscCall(NextTest(as, y, as->m[0]));
