@@ -13,7 +13,8 @@
    satisfies the u rows as well; 3 ranks (a rank with neighbours on both
    sides) with the METIS ordering give the same;
  - -kkt_ordering auto (the default) orders Hertz level 2 (16,516 dofs) with
-   MUMPS' own and level 4 (249,348) with METIS (the summary's kkt_ordering)."""
+   MUMPS' own on 1 rank and METIS on 2, level 4 (249,348) with METIS (the
+   summary's kkt_ordering)."""
 import numpy as np
 from m2d import check, mesh, opts, read_h5, solve, sorted_fields, workdir
 
@@ -53,6 +54,8 @@ check(s["complementarity"] < 1e-10, "condensed: complementarity %.2e" % s["compl
 s4 = solve("paths_auto_l4", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_4"), "-output_vtu", "0", "-error_estimate", "0"])
 check(s["dofs"] < 200000 and s.get("kkt_ordering") == "mumps", "auto ordering: %d dofs ordered by %s (mumps below 2e5)" % (s["dofs"], s.get("kkt_ordering")))
 check(s4["dofs"] >= 200000 and s4.get("kkt_ordering") == "metis", "auto ordering: %d dofs ordered by %s (metis from 2e5)" % (s4["dofs"], s4.get("kkt_ordering")))
+s2r = solve("paths_auto_2ranks", ["-options_file", opts("hertz"), "-mesh", mesh("hertz_2"), "-output_vtu", "0", "-error_estimate", "0"], ranks=2)
+check(s2r.get("kkt_ordering") == "metis", "auto ordering: %d dofs on 2 ranks ordered by %s (metis on several ranks)" % (s2r["dofs"], s2r.get("kkt_ordering")))
 
 # two ranks: the condensed path, both orderings, against one rank's full path
 for name, base in cases:

@@ -20,7 +20,8 @@
 #include <petscksp.h>
 
 typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS, M2D_ORDERING_AUTO } M2dOrdering;
-/* -kkt_ordering auto: MUMPS' own below this many dofs, METIS from there. On
+/* -kkt_ordering auto: MUMPS' own below this many dofs on one rank, METIS from
+ * there and on several ranks (M2dOrderingFor). On
  * Hertz and S1 meshes of 1.6e4-2.6e5 dofs (docs/speed.md) MUMPS' AMD ordered,
  * analysed and factored in 0.66-0.93 of METIS' time (libmetis' nested
  * dissection costs about what it saves in the factorization), level 5 (9.9e5)
@@ -40,6 +41,10 @@ PetscErrorCode M2dOrderingMetis(Mat A, IS last, IS *pos);
  * Collective on the KSP's communicator. */
 PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *metis);
 /* The ordering ord means for a problem of dofs unknowns (the whole problem's,
- * so every rank decides alike): auto resolved, the others as they are. */
-M2dOrdering M2dOrderingFor(M2dOrdering ord, PetscInt dofs);
+ * so every rank decides alike) on `ranks` ranks: auto resolved, the others as
+ * they are. Auto is METIS on several ranks: there MUMPS' own order of each
+ * rank's rows, the separators as a Schur complement, lost the S2 patch test
+ * with moduli 1e15 apart to round-off (residual 2.8e-2 on 2 ranks, 2e-15 with
+ * METIS), and METIS was the faster on 2 ranks too (docs/speed.md). */
+M2dOrdering M2dOrderingFor(M2dOrdering ord, PetscInt dofs, PetscMPIInt ranks);
 #endif

@@ -288,7 +288,7 @@ static PetscErrorCode ReadLinearAlgebra(PetscOptionItems *PetscOptionsObject, M2
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_mat", "KKT matrix: aij (monolithic, for MUMPS) or nest (MatNest, for PCFIELDSPLIT)", mats, 2, (PetscEnum *)&s->kkt_mat));
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_path", "solves: condensed (factor once), full (KKT each step) or iterative (CG + AMG in u)", paths, 3, (PetscEnum *)&s->kkt_path));
-  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_ordering", "ordering for MUMPS: metis (nested dissection), mumps (its own), auto (mumps below 2e5 dofs)", ords, 3, (PetscEnum *)&s->kkt_ordering));
+  PetscCall(M2dOptionsEnum(PetscOptionsObject, "-kkt_ordering", "ordering for MUMPS: metis (nested dissection), mumps (its own), auto (mumps: 1 rank, < 2e5 dofs)", ords, 3, (PetscEnum *)&s->kkt_ordering));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-kkt_ldlt", "condensed path: LDL^T of the symmetric KKT matrix (MUMPS SYM = 2); false: LU", s->kkt_ldlt, &s->kkt_ldlt));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_4", "condensed path's MUMPS ICNTL(4): output level, 0 to 4", s->icntl4, &s->icntl4, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-mat_mumps_icntl_7", "condensed path's MUMPS ICNTL(7) when MUMPS orders (-kkt_ordering): ordering, 0 or 2 to 7", s->icntl7, &s->icntl7, NULL));

@@ -271,12 +271,14 @@ PetscErrorCode CondensedCreateFromKKT(const M2dKKT *kkt, const M2dScene *s, M2dC
 {
   M2dCondensedOptions opt;
   PetscInt            n;
+  PetscMPIInt         size;
 
   PetscFunctionBeginUser;
   PetscCheck(kkt->gamma > 0 && kkt->Kblk && kkt->C && kkt->Ct, PetscObjectComm((PetscObject)kkt->K), PETSC_ERR_PLIB, "condensed path needs the augmented KKT blocks");
   opt.ldlt            = s->kkt_ldlt;
   PetscCall(MatGetSize(kkt->Kblk, &n, NULL));
-  opt.ordering        = M2dOrderingFor(s->kkt_ordering, n);
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)kkt->Kblk), &size));
+  opt.ordering        = M2dOrderingFor(s->kkt_ordering, n, size);
   opt.mumps.output    = s->icntl4;
   opt.mumps.ordering  = s->icntl7;
   opt.mumps.scaling   = s->icntl8;

@@ -217,10 +217,10 @@ static PetscErrorCode SetMumpsAMF(PC pc, MatFactorType ft)
   PetscFunctionReturn(0);
 }
 
-M2dOrdering M2dOrderingFor(M2dOrdering ord, PetscInt dofs)
+M2dOrdering M2dOrderingFor(M2dOrdering ord, PetscInt dofs, PetscMPIInt ranks)
 {
   if (ord != M2D_ORDERING_AUTO) return ord;
-  return dofs < M2D_ORDERING_AUTO_DOFS ? M2D_ORDERING_MUMPS : M2D_ORDERING_METIS;
+  return ranks == 1 && dofs < M2D_ORDERING_AUTO_DOFS ? M2D_ORDERING_MUMPS : M2D_ORDERING_METIS;
 }
 
 PetscErrorCode M2dOrderingSetupKSP(KSP ksp, M2dOrdering ord, PetscBool *metis)
