@@ -4,6 +4,7 @@
 #include "elasticity.h"
 #include "logging.h"
 #include "util.h"
+#include "ordering.h"
 
 #define M2D_LOCKING_RATIO  48.5 /* lambda/mu just below nu = 0.49 (49) */
 #define M2D_ROUNDOFF_LIMIT 1e-6 /* largest stress round-off (of the load) accepted a priori */
@@ -34,6 +35,8 @@ static PetscErrorCode CheckMaterials(MPI_Comm comm, const M2dScene *s)
 
 PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const char *what, M2dProblem *pb)
 {
+  PetscMPIInt size;
+
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(pb, sizeof(*pb)));
   pb->user = user;
@@ -47,6 +50,8 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, 1.0 / pb->units.L));
   pb->s = *user;
   M2dUnitsScaleScene(&pb->units, &pb->s);
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  pb->s.kkt_ordering = M2dOrderingFor(pb->s.kkt_ordering, 2 * pb->mesh.nvert_global, size); /* auto resolved for this mesh */
   if (pb->s.hertz && !pb->s.hertz_load_set) { /* quarter model: the full cylinder carries twice the load */
     PetscCall(ElasticityPressureResultant(&pb->mesh, &pb->s.load[0], &pb->s.hertz_load));
     pb->s.hertz_load *= 2;

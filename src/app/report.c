@@ -6,7 +6,6 @@
 #include "method.h"
 #include "logging.h"
 #include "options.h"
-#include "ordering.h"
 #include "util.h"
 #include <string.h>
 #include <sys/resource.h>
@@ -29,7 +28,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryInt(sum, "", "bodies", pb->s.nbody);
   SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
-  if (sol->path == M2D_PATH_CONDENSED) SummaryString(sum, "", "kkt_ordering", M2dOrderingFor(pb->s.kkt_ordering, 2 * pb->mesh.nvert_global, size) == M2D_ORDERING_METIS ? "metis" : "mumps"); /* as resolved (auto) */
+  if (sol->path == M2D_PATH_CONDENSED) SummaryString(sum, "", "kkt_ordering", pb->s.kkt_ordering == M2D_ORDERING_METIS ? "metis" : "mumps"); /* auto resolved (ProblemCreate) */
   /* the iteration counts of this path: one linear solve, or the active set's steps (SummarizeContact) and their solves */
   if (sol->path == M2D_PATH_LINEAR || sol->path == M2D_PATH_TIED) SummaryInt(sum, "", "ksp_iterations", sol->ksp_its);
   SummaryInt(sum, "", "ksp_iterations_max", sol->ksp_its_max);

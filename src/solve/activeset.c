@@ -311,11 +311,9 @@ static PetscErrorCode SetupPath(SNES snes, M2dActiveSet *as, M2dSolverPath path,
   PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&as->pb->s, path))); /* the solvers are configured: an option nobody read is a typo */
   if (path == M2D_PATH_CONDENSED && !as->vi) PetscCall(ActiveSetSetupCondensed(snes, as, info));
   else if (path != M2D_PATH_ITERATIVE) {
-    KSP         ksp;
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(comm, &size));
+    KSP ksp;
     PetscCall(SNESGetKSP(snes, &ksp));
-    PetscCall(M2dOrderingSetupKSP(ksp, M2dOrderingFor(as->pb->s.kkt_ordering, 2 * as->pb->mesh.nvert_global, size), NULL));
+    PetscCall(M2dOrderingSetupKSP(ksp, as->pb->s.kkt_ordering, NULL));
   }
   PetscFunctionReturn(0);
 }

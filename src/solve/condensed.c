@@ -270,15 +270,11 @@ PetscErrorCode CondensedCreate(Mat Kg, Mat C, Mat Ct, Vec f, PetscReal gamma, co
 PetscErrorCode CondensedCreateFromKKT(const M2dKKT *kkt, const M2dScene *s, M2dCondensed **cs)
 {
   M2dCondensedOptions opt;
-  PetscInt            n;
-  PetscMPIInt         size;
 
   PetscFunctionBeginUser;
   PetscCheck(kkt->gamma > 0 && kkt->Kblk && kkt->C && kkt->Ct, PetscObjectComm((PetscObject)kkt->K), PETSC_ERR_PLIB, "condensed path needs the augmented KKT blocks");
   opt.ldlt            = s->kkt_ldlt;
-  PetscCall(MatGetSize(kkt->Kblk, &n, NULL));
-  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)kkt->Kblk), &size));
-  opt.ordering        = M2dOrderingFor(s->kkt_ordering, n, size);
+  opt.ordering        = s->kkt_ordering; /* auto resolved by ProblemCreate */
   opt.mumps.output    = s->icntl4;
   opt.mumps.ordering  = s->icntl7;
   opt.mumps.scaling   = s->icntl8;

@@ -173,16 +173,14 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
 /* no contact, or every candidate held closed: one linear solve */
 static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
 {
-  KSP         ksp;
-  PetscBool   contact = (PetscBool)(sol->path == M2D_PATH_TIED);
-  PetscMPIInt size;
+  KSP      ksp;
+  PetscBool contact = (PetscBool)(sol->path == M2D_PATH_TIED);
 
   PetscFunctionBeginUser;
   if (pb->s.kkt_path == M2D_KKT_PATH_ITERATIVE) PetscFunctionReturn(SolveLinearIterative(pb, sol));
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)pb->K), &ksp));
   PetscCall(KSPSetOperators(ksp, contact ? pb->kkt.A : pb->K, contact ? pb->kkt.A : pb->K));
-  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pb->K), &size));
-  PetscCall(SetupLinearKSP(ksp, M2dOrderingFor(pb->s.kkt_ordering, 2 * pb->mesh.nvert_global, size)));
+  PetscCall(SetupLinearKSP(ksp, pb->s.kkt_ordering));
   if (contact) PetscCall(KKTSetupKSP(&pb->kkt, ksp));
   PetscCall(M2dOptionsCheckUnused(PetscObjectComm((PetscObject)ksp), ProblemPathSays(&pb->s, sol->path))); /* the solver is configured: an option nobody read is a typo */
   if (contact) {
