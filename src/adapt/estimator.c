@@ -211,18 +211,23 @@ static PetscErrorCode RecoverBody(const Ctx *x, DM dmr, PetscInt b, M2dRecovery 
   PetscSection   rsec;
   Vec            l, g;
   PetscScalar   *acc;
+  PetscMPIInt    size;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)dmr), &size));
   PetscCall(DMGetLocalSection(dmr, &rsec));
   PetscCall(DMGetLocalVector(dmr, &l));
-  PetscCall(DMGetGlobalVector(dmr, &g));
   PetscCall(VecZeroEntries(l));
   PetscCall(VecGetArray(l, &acc));
   PetscCall(AccumulatePatches(x, b, rec, rsec, acc));
   PetscCall(VecRestoreArray(l, &acc));
-  PetscCall(VecZeroEntries(g));
-  PetscCall(DMLocalToGlobal(dmr, l, ADD_VALUES, g));
-  PetscCall(DMGlobalToLocal(dmr, g, INSERT_VALUES, l));
+  if (size > 1) { /* the patches of vertices on a rank boundary: sums over both ranks (one rank: the local sums are the patches) */
+    PetscCall(DMGetGlobalVector(dmr, &g));
+    PetscCall(VecZeroEntries(g));
+    PetscCall(DMLocalToGlobal(dmr, l, ADD_VALUES, g));
+    PetscCall(DMGlobalToLocal(dmr, g, INSERT_VALUES, l));
+    PetscCall(DMRestoreGlobalVector(dmr, &g));
+  }
   PetscCall(VecGetArray(l, &acc));
   for (PetscInt v = m->vStart; v < m->vEnd; v++) {
     PetscInt off;
@@ -231,7 +236,6 @@ static PetscErrorCode RecoverBody(const Ctx *x, DM dmr, PetscInt b, M2dRecovery 
     if (has[v - m->vStart]) PatchValue(&acc[off], &sv[3 * (v - m->vStart)]);
   }
   PetscCall(VecRestoreArray(l, &acc));
-  PetscCall(DMRestoreGlobalVector(dmr, &g));
   PetscCall(DMRestoreLocalVector(dmr, &l));
   PetscFunctionReturn(0);
 }
