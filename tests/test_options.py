@@ -201,6 +201,7 @@ for what, args, culprits in [
         ("-hertz_radius without -hertz", PATCH + ["-hertz_radius", "2"], ["option -hertz_radius has no effect without -hertz"]),
         ("-adapt_target without -adapt", BLOCK + ["-adapt_target", "0.1"], ["option -adapt_target has no effect without -adapt"]),
         ("-geo_setnumber without -adapt", BLOCK + ["-geo_setnumber", "n=8"], ["option -geo_setnumber has no effect without -adapt"]),
+        ("-adapt_keep without -adapt", BLOCK + ["-adapt_keep", "last"], ["option -adapt_keep has no effect without -adapt"]),
         ("-mortar_basis dual -contact_method nts", PATCH + ["-mortar_basis", "dual", "-contact_method", "nts"], ["option -mortar_basis has no effect with -contact_method nts"]),
         ("-iterative_ksp_rtol off the iterative path", PATCH + ["-iterative_ksp_rtol", "1e-8"], ["option -iterative_ksp_rtol has no effect on the condensed path"]),
         ("-iterative_inexact off the iterative path", PATCH + ["-iterative_inexact", "0.2"], ["option -iterative_inexact has no effect on the condensed path"]),

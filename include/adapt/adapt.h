@@ -26,6 +26,7 @@ typedef struct {
   PetscInt  goal;      /* -adapt_goal: 0 energy, 1 contact */
   PetscReal grading;   /* -adapt_grading: largest growth of the size per element */
   PetscReal growth;    /* -adapt_growth: dofs of the next mesh over this one's */
+  PetscInt  keep_last; /* -adapt_keep: 0 best (the last mesh within 10% of the smallest estimate), 1 last */
   PetscInt  nnumber;   /* -geo_setnumber NAME=VALUE,...: parameters of the .geo */
   char      number_name[M2D_ADAPT_MAX_NUMBERS][64];
   PetscReal number_value[M2D_ADAPT_MAX_NUMBERS];

@@ -67,7 +67,7 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, const M2dAda
 
   PetscFunctionBeginUser;
   if (s->help) PetscFunctionReturn(0);
-  if (!ao->enabled) PetscCall(M2dOptionsNoEffect(comm, "-adapt_target -adapt_max_steps -adapt_max_dofs -adapt_goal -adapt_grading -adapt_growth -adapt_quads -geo -geo_setnumber", "without -adapt"));
+  if (!ao->enabled) PetscCall(M2dOptionsNoEffect(comm, "-adapt_target -adapt_max_steps -adapt_max_dofs -adapt_goal -adapt_grading -adapt_growth -adapt_keep -adapt_quads -geo -geo_setnumber", "without -adapt"));
   if (ao->enabled && ao->goal == 1) PetscCall(M2dOptionsReadLater("dual_")); /* the dual problem's solver, after the primal's */
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &path_given));
   if (ao->enabled && !path_given) {
@@ -88,6 +88,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
 {
   const char *quads[] = {"subdivide", "fullquad", "blossom", "simple"}; /* order of M2dRemeshQuads */
   const char *goals[] = {"energy", "contact"};
+  const char *keeps[] = {"best", "last"};
   char       *num[M2D_ADAPT_MAX_NUMBERS];
   PetscInt    nnum = M2D_ADAPT_MAX_NUMBERS;
 
@@ -107,6 +108,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes aim at: energy (energy-norm error) or contact (contact pressure, dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_keep", "the results of: best (the last mesh within 10% of the smallest estimate) or last (the finest)", keeps, 2, &ao->keep_last));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, 0, num, &nnum));
   PetscOptionsEnd();
@@ -702,8 +704,8 @@ static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptO
   PetscCall(GatherPrevMesh(st, &prev));
   if (prev.hcell) { /* rank 0 */
     if (st->pb.has_contact) {
-      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L)); /* every interface */
       PetscCall(Floor(&prev, &st->pb.contact, st->pb.units.L));
+      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L)); /* every interface */
     }
     PetscCall(Grade(&prev, ao->grading));
     {
@@ -810,7 +812,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
      * so far (the estimate cannot rank meshes closer than that; the later mesh
      * was made from more information) */
     est_min = have_best ? PetscMin(est_min, est) : est;
-    if (est <= 1.1 * est_min) {
+    if (est <= 1.1 * est_min || ao->keep_last) {
       if (have_best) PetscCall(M2dStepDestroy(&best));
       best       = st;
       kbest      = k;
