@@ -386,7 +386,7 @@ static PetscInt EdgeCell(const PrevMesh *prev, const PetscInt *vptr, const Petsc
  * ripple would refine one side further. The gradation then carries the sizes
  * into each body. c: the contact pair in the user's units (after
  * ReportCompute; its reach still in reference units, L the length unit). */
-static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal L)
+static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal L, PetscBool nm_too)
 {
   M2dSegmentSet        own;
   const M2dSegmentSet *S = &c->seg;
@@ -412,8 +412,8 @@ static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal
     PetscInt          a = cnm[sg->nm_edge], b = cm[sg->m_edge];
     PetscReal         g = PetscMin(gap[c->nm.edge[2 * sg->nm_edge]], gap[c->nm.edge[2 * sg->nm_edge + 1]]), h;
     if (a < 0 || b < 0 || !(g <= PetscMax(h0[a], h0[b]))) continue;
-    h              = PetscMin(h0[a], h0[b]);
-    prev->hcell[a] = PetscMin(prev->hcell[a], h);
+    h = nm_too ? PetscMin(h0[a], h0[b]) : h0[a];
+    if (nm_too) prev->hcell[a] = PetscMin(prev->hcell[a], h);
     prev->hcell[b] = PetscMin(prev->hcell[b], h / 1.3);
   }
   PetscCall(PetscFree(h0));
@@ -705,9 +705,13 @@ static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptO
   if (prev.hcell) { /* rank 0 */
     if (st->pb.has_contact) {
       PetscCall(Floor(&prev, &st->pb.contact, st->pb.units.L));
-      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L)); /* every interface */
+      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L, PETSC_TRUE)); /* every interface */
     }
     PetscCall(Grade(&prev, ao->grading));
+    if (st->pb.has_contact) { /* the gradation lowers each side's sizes on its own: the mortar side made the finer again where it no longer is, and graded */
+      for (PetscInt p = 0; p < st->pb.contact.npair; p++) PetscCall(Balance(&prev, &st->pb.contact.pair[p], st->pb.units.L, PETSC_FALSE));
+      PetscCall(Grade(&prev, ao->grading));
+    }
     {
       double f = PetscSqrtReal(*ratio * FieldCells(&prev) / PetscMax(st->fig.expected_cells, 1));
       if (f > 1) Scale(&prev, f);
