@@ -108,7 +108,7 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes aim at: energy (energy-norm error) or contact (contact pressure, dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_keep", "the results of: best (the last mesh within 10% of the smallest estimate) or last (the finest)", keeps, 2, &ao->keep_last));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_keep", "the results of: best (the last mesh within 10% of the smallest estimate) or last (the last made)", keeps, 2, &ao->keep_last));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, 0, num, &nnum));
   PetscOptionsEnd();
@@ -384,7 +384,9 @@ static PetscInt EdgeCell(const PrevMesh *prev, const PetscInt *vptr, const Petsc
  * on its foundation, showed spikes of 20% of the peak where the non-mortar
  * side was locally 1.5 times finer; docs/); indicators that feed on such
  * ripple would refine one side further. The gradation then carries the sizes
- * into each body. c: the contact pair in the user's units (after
+ * into each body. nm_too false: only the mortar cells, to 1.3 times finer than
+ * the non-mortar cells they face (after the gradation, which lowers each side's
+ * sizes on its own). c: the contact pair in the user's units (after
  * ReportCompute; its reach still in reference units, L the length unit). */
 static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal L, PetscBool nm_too)
 {
@@ -689,7 +691,8 @@ static PetscErrorCode Floor(PrevMesh *prev, const M2dContact *ct, PetscReal L)
 }
 
 /* The mesh of step k > 0 from the size field of step st: gathered on rank 0,
- * balanced across the contact, floored, graded; then every size grown by one
+ * floored, balanced across the contact, graded, the mortar side made the finer
+ * again where the gradation undid it and graded once more; then every size grown by one
  * factor so that the cells gmsh will make (the field's count times *ratio,
  * gmsh's cells per asked cell at the last remeshing) are those the size field
  * chose (balance and gradation add some); rounded (Quantize), in the .geo's
