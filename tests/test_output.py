@@ -191,16 +191,20 @@ report(len({run_id(os.path.join(d, SUMMARY)) for d in REFD.values()}) == 4, "fou
 for r in (1, 2):
     diff = [n for n in PUB if not same(REFS["A%d" % r][n], REFS["B%d" % r][n])]
     report(diff == [n for n in PUB if not n.endswith(".xmf")], "%d rank(s): sets A and B differ in every file but the .xmf" % r, "differ: %s" % diff)
-# the writers add nothing that changes from run to run but the run id
+# the writers add nothing that changes from run to run but the run id: the
+# same command (the same arguments: on AVX-512 machines OpenBLAS rounds the
+# last bits of MUMPS' factors with the alignment of its work arrays, which
+# shifts with the length of the arguments and the environment) run again
 again = os.path.join(W, "again")
 shutil.rmtree(again, ignore_errors=True)
-run(args(again, "A"))
+shutil.copytree(REFD["A", 1], again)
+run(args(REFD["A", 1], "A"))
 bad = []
 for n in PUB[:4]:
     a, b = (open(os.path.join(x, n), "rb").read() for x in (again, REFD["A", 1]))
     if a.replace(run_id(os.path.join(again, n)).encode(), b"ID") != b.replace(run_id(os.path.join(REFD["A", 1], n)).encode(), b"ID"):
         bad.append(n)
-report(not bad, "two equal runs on 1 rank give byte-identical .vtu, .h5, .xmf, .csv but for the run id", "differ: %s" % bad)
+report(not bad, "the same command run twice on 1 rank gives byte-identical .vtu, .h5, .xmf, .csv but for the run id", "differ: %s" % bad)
 
 # the fields ParaView shows: active on the non-mortar surface, the pressure on both sides, nodal stresses
 xy, cells, vf, cf = read_h5(os.path.join(REFD["A", 1], NAME + ".h5"))

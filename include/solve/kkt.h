@@ -55,6 +55,12 @@ PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scal
  * settled FALSE (an active set that failed), that solved its steps to a
  * -ksp_rtol above 1e-8: one line "WHAT: ..." naming its tolerances. Collective. */
 PetscErrorCode KKTKrylovCheck(KSP ksp, const char *what, PetscBool settled);
+/* A failed solve (ksp's converged reason < 0) by PCFIELDSPLIT without the
+ * augmentation (gamma 0): one line naming -kkt_augment, whatever the failure
+ * reads (a singular K block fails in the factorization on one machine and in
+ * the Krylov iteration on another, as the pivoting and the BLAS decide).
+ * Collective. */
+PetscErrorCode KKTFieldsplitCheck(KSP ksp, PetscReal gamma);
 /* configure the KSP (after KSPSetFromOptions): fieldsplit gets the u/lambda splits */
 PetscErrorCode KKTSetupKSP(M2dKKT *kkt, KSP ksp);
 /* solve; u gets the displacement, lam (layout of C's rows) the multipliers */

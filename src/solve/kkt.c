@@ -282,6 +282,20 @@ PetscErrorCode KKTDestroy(M2dKKT *kkt)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode KKTFieldsplitCheck(KSP ksp, PetscReal gamma)
+{
+  KSPConvergedReason kr;
+  PC                 pc;
+  PetscBool          fs;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetConvergedReason(ksp, &kr));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+  PetscCheck(kr >= 0 || !fs || gamma > 0, PetscObjectComm((PetscObject)ksp), PETSC_ERR_NOT_CONVERGED, "linear solve failed (%s): the fieldsplit K block cannot be factored when a body is held only by contact; add -kkt_augment 1 or use the monolithic solver (options/kkt_mumps.opts)", KSPConvergedReasons[kr]);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode KKTKrylovCheck(KSP ksp, const char *what, PetscBool settled)
 {
   KSPType            type;

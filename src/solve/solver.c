@@ -123,17 +123,13 @@ static PetscErrorCode SetupLinearKSP(KSP ksp, M2dOrdering ord)
 static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal augment)
 {
   KSPConvergedReason reason;
-  PetscBool          fs;
-  PC                 pc;
   MPI_Comm           comm = PetscObjectComm((PetscObject)ksp);
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   if (reason > 0) PetscFunctionReturn(0);
+  if (contact) PetscCall(KKTFieldsplitCheck(ksp, augment));
   PetscCall(KKTKrylovCheck(ksp, "linear solve failed", PETSC_TRUE));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
-  PetscCheck(!(fs && contact && augment == 0), comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed (%s): the fieldsplit K block cannot be factored when a body is held only by contact; add -kkt_augment 1 or use the monolithic solver (options/kkt_mumps.opts)", KSPConvergedReasons[reason]);
   SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
 }
 
