@@ -20,7 +20,8 @@ HELP_MAX = 100
 OURS = ["-mesh", "-mesh_dir", "-mesh_scale", "-mesh_partitioner", "-mesh_check", "-geo", "-geo_dir", "-bodies",
         "-plane", "-q4_integration", "-dirichlet", "-pressure", "-traction", "-contact_nonmortar", "-contact_mortar",
         "-contact_method", "-mortar_basis", "-contact_unilateral", "-contact_c", "-contact_initial",
-        "-contact_monitor", "-contact_reach", "-exact", "-exact_p", "-exact_angle", "-mms_amplitude", "-hertz",
+        "-contact_monitor", "-contact_reach", "-contact_friction", "-load_steps", "-load_stages", "-stage2_pressure", "-stage2_traction",
+        "-stage2_dirichlet", "-stage2_steps", "-exact", "-exact_p", "-exact_tau", "-exact_angle", "-mms_amplitude", "-hertz", "-cattaneo",
         "-hertz_radius", "-hertz_load", "-kkt_mat", "-kkt_path", "-kkt_ordering", "-kkt_ldlt", "-mat_mumps_icntl_4",
         "-mat_mumps_icntl_7", "-mat_mumps_icntl_8", "-mat_mumps_icntl_14", "-mat_mumps_icntl_58", "-kkt_augment", "-kkt_condensed_max",
         "-output_dir", "-output_name", "-output", "-output_vtu", "-output_hdf5", "-summary",
@@ -31,11 +32,12 @@ DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-out
             "-kkt_ldlt": "TRUE", "-mat_mumps_icntl_14": "20", "-mesh_partitioner": "metis", "-mesh_check": "FALSE",
             "-contact_c": "auto", "-contact_reach": "auto", "-hertz_load": "auto", "-exact_p": "auto",
             "-hertz_radius": "1.", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",
-            "-mesh": "none, required", "-summary": "OUTPUT_DIR/N_summary.json", "-output": "h5,vtu,csv,summary", "-exact_angle": "0.", "-mortar_basis": "standard"}
+            "-mesh": "none, required", "-summary": "OUTPUT_DIR/N_summary.json", "-output": "h5,vtu,csv,summary", "-exact_angle": "0.", "-mortar_basis": "standard",
+            "-contact_friction": "0.", "-load_steps": "1", "-load_stages": "1", "-stage2_steps": "1"}
 
 # the jobs, in the order of the README's Options section
 JOBS = ["mortar2d: scene and mesh", "mortar2d: materials", "Material of body 'lower'", "Material of body 'upper'",
-        "mortar2d: loads and supports", "mortar2d: contact", "mortar2d: solver paths", "mortar2d: solver paths (-kkt_path iterative)",
+        "mortar2d: loads and supports", "mortar2d: load history", "mortar2d: load stage 2", "mortar2d: contact", "mortar2d: solver paths", "mortar2d: solver paths (-kkt_path iterative)",
         "mortar2d: checks against exact answers", "mortar2d: error estimate", "mortar2d: adaptive meshes", "mortar2d: output",
         "mortar2d: output (mesh)"]
 

@@ -39,7 +39,7 @@ static PetscErrorCode CreateKKT(MPI_Comm comm, M2dContactRows *R, M2dKKT *kkt)
     }
   PetscCall(VecAssemblyBegin(ubc));
   PetscCall(VecAssemblyEnd(ubc));
-  PetscCall(KKTCreate(&s, PETSC_FALSE, R, K, f, ubc, nd, drows, kkt));
+  PetscCall(KKTCreate(&s, PETSC_FALSE, R, NULL, K, f, ubc, nd, drows, kkt));
   PetscCall(MatDestroy(&K));
   PetscCall(VecDestroy(&f));
   PetscCall(VecDestroy(&ubc));
@@ -91,7 +91,7 @@ static PetscErrorCode CheckSetActive(MPI_Comm comm, M2dKKT *kkt)
   for (PetscInt k = lo; k < hi; k++) PetscCall(VecSetValue(act, k, (PetscScalar)(k % 2), INSERT_VALUES));
   PetscCall(VecAssemblyBegin(act));
   PetscCall(VecAssemblyEnd(act));
-  PetscCall(KKTSetActive(kkt, act, c, scale));
+  PetscCall(KKTSetActive(kkt, act, NULL, c, scale));
   PetscCall(MatGetSize(kkt->C, NULL, &N));
   PetscCall(MatGetSize(kkt->A, &NA, NULL));
   PetscCall(GatherDense(kkt->C, &Cd));

@@ -56,7 +56,7 @@ static PetscErrorCode MortarPair(M2dContactPair *c)
 {
   PetscFunctionBeginUser;
   PetscCall(MortarBuildSegments(&c->nm, &c->m, 0.1, &c->seg));
-  PetscCall(MortarRows(&c->nm, &c->m, &c->seg, M2D_MORTAR_STANDARD, &c->R));
+  PetscCall(MortarRows(&c->nm, &c->m, &c->seg, M2D_MORTAR_STANDARD, PETSC_FALSE, &c->R));
   PetscFunctionReturn(0);
 }
 
@@ -136,7 +136,7 @@ int main(int argc, char **argv)
     { /* NTS: node (0.5, 0.02) above mortar node (0.5, 0): xi = 1 on edge 0 or -1 on edge 1 */
       M2dContactRows N;
       PetscInt    j;
-      PetscCall(NTSRows(&d.nm, &d.m, 0.1, &N));
+      PetscCall(NTSRows(&d.nm, &d.m, 0.1, PETSC_FALSE, &N));
       j = RowOfNode(&N, 2);
       CHECK(N.n == 3 && j >= 0, "NTS: 3 multipliers (nodes over the mortar surface)");
       if (j >= 0) CHECK(PetscAbsReal(N.w[j] - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 105) - 0.5) < 1e-15 && PetscAbsReal(RowVal(&N, j, 3) + 0.5) < 1e-15, "NTS row: a_s n at the node, -a_s n at the coincident mortar node");

@@ -38,6 +38,9 @@ typedef struct {
   M2dContactRows  Rkkt;     /* with frames: the contact rows in the frames' coordinates (the KKT's) */
   M2dKKT          kkt;   /* with contact */
   PetscBool      *warm;  /* with contact: the first active set (one per multiplier, every rank), or NULL */
+  PetscInt        ncase;   /* a load history (scene.h: stages, steps): its load cases, one per stage; 0 for one step */
+  Vec            *fcase;   /* each stage's load, Dirichlet-lifted (the first: the scene's) */
+  Vec            *ubccase; /* each stage's support values */
   PetscBool       keep_factor; /* condensed path: keep the factorization for later solves (M2dActiveSetInfo.factor) */
 } M2dProblem;
 
@@ -53,6 +56,10 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
 /* What path means for the options, as "on the condensed path (...)": the
  * reason an option has no effect (optcheck.h). Not collective. */
 const char    *ProblemPathSays(const M2dScene *s, M2dSolverPath path);
+/* The load of step `step` (1 ..) of stage `stage` (0 ..) of the history into
+ * pb->f and pb->ubc: the stages before held whole, this one's by the
+ * fraction step / its steps. Collective. */
+PetscErrorCode ProblemSetLoad(M2dProblem *pb, PetscInt stage, PetscInt step);
 /* Frees everything pb owns. Collective. */
 PetscErrorCode ProblemDestroy(M2dProblem *pb);
 #endif

@@ -11,6 +11,7 @@
 #define M2D_NAME_LEN   128
 #define M2D_MAX_MESH   M2D_MAX_BODIES
 #define M2D_MAX_PAIRS  16
+#define M2D_MAX_STAGES 16 /* load stages: the scene's loads, then -stage2_... to -stageK_... */
 
 typedef enum {
   M2D_PLANE_STRAIN,
@@ -19,7 +20,7 @@ typedef enum {
 
 typedef enum {
   M2D_EXACT_NONE,
-  M2D_EXACT_UNIFORM, /* uniaxial compression: sigma_yy = -p, sigma_xx = sigma_xy = 0 (in the frame of -exact_angle) */
+  M2D_EXACT_UNIFORM, /* uniform stress: sigma_yy = -p, sigma_xy = tau, sigma_xx = 0 (in the frame of -exact_angle) */
   M2D_EXACT_MMS      /* manufactured solution with a body force (mms in elasticity.c) */
 } M2dExact;
 
@@ -35,6 +36,8 @@ typedef struct {
   int              basis;        /* MortarBasis (mortar.h) */
   PetscBool        own_method;   /* given in -contact_pairs (NM:M:standard|dual|nts) */
   PetscReal        hertz_radius; /* -hertz: this pair's effective radius */
+  PetscReal        mu;           /* Coulomb friction coefficient (0: frictionless) */
+  PetscBool        own_mu;       /* given in -contact_pairs (NM:M[:method]:MU) */
   char             what[2 * M2D_NAME_LEN + 64]; /* the options that name it, for messages */
   const char      *opt_nm, *opt_m;              /* the option that names each side: -contact_pairs, or -contact_nonmortar and -contact_mortar */
 } M2dPair;
@@ -72,6 +75,7 @@ typedef struct {
   M2dBCFrame frame;
   PetscBool  comp[2];             /* M2D_BC_XY: which of u_x, u_y are prescribed */
   PetscReal  value[2];
+  PetscInt   stage;               /* 0: a support of the scene (-dirichlet); k > 0: -stage<k+1>_dirichlet, a change of a support's value */
 } M2dDirichlet;
 
 typedef struct {
@@ -80,6 +84,7 @@ typedef struct {
   PetscReal p;    /* pressure, positive pushing into the body: p + grad . (x, y) */
   PetscReal grad[2];
   PetscReal t[2]; /* traction vector */
+  PetscInt  stage; /* 0: the scene's (-pressure, -traction); k > 0: added by -stage<k+1>_pressure, -stage<k+1>_traction */
 } M2dEdgeLoad;
 
 typedef struct {
@@ -118,7 +123,11 @@ typedef struct {
   PetscReal        contact_c;       /* complementarity parameter, > 0 when contact_c_set */
   PetscBool        contact_monitor;
   PetscInt         contact_initial; /* first active set: 0 closed gaps, 1 closest nodes, 2 every candidate */
+  PetscReal        friction;        /* -contact_friction: MU of every pair without its own */
+  PetscInt         nstage;          /* load stages (-load_stages), >= 1 */
+  PetscInt         stage_steps[M2D_MAX_STAGES]; /* each stage's load steps (-load_steps, -stage<k>_steps) */
   PetscBool        hertz;           /* compare the contact pressure with Hertz */
+  PetscBool        cattaneo;        /* with -hertz and friction: compare the shear traction with Cattaneo-Mindlin */
   PetscInt         hertz_nradius;   /* 1 or 2 radii given (every pair), or 2 per pair */
   PetscReal        hertz_radii[2 * M2D_MAX_PAIRS]; /* R1 (and R2) of -hertz_radius */
   PetscReal        hertz_radius;    /* effective radius of the first pair (pair[k].hertz_radius: each pair's) */
@@ -126,6 +135,7 @@ typedef struct {
   PetscReal        hertz_load;
   PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */
   PetscReal        exact_p;         /* -exact uniform: the exact -sigma_yy */
+  PetscReal        exact_tau;       /* -exact uniform: the exact sigma_xy (a sheared patch) */
   PetscReal        strain_limit;    /* the largest strain or rotation an answer may reach (verify.h) */
   M2dKKTMat        kkt_mat;
   M2dKKTPath       kkt_path;     /* active-set solves: full, condensed (condensed.h) or iterative (iterative.h) */
@@ -156,6 +166,10 @@ PetscErrorCode SceneCheckOptions(MPI_Comm comm, const M2dScene *s);
  * else an error naming opt, given and dir. path gets len bytes. Collective on
  * comm (rank 0 looks, every rank gets its answer). */
 PetscErrorCode SceneResolvePath(MPI_Comm comm, const char *opt, const char *given, const char *dir, char *path, size_t len);
+/* Whether some pair has friction (mu > 0). Not collective. */
+PetscBool      SceneHasFriction(const M2dScene *s);
+/* The load steps of the whole history (every stage's). Not collective. */
+PetscInt       SceneLoadSteps(const M2dScene *s);
 /* Print the plane mode, the bodies and their materials (and Hertz's effective
  * radius when two radii are given). Collective on comm. */
 PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s);

@@ -12,29 +12,48 @@
 typedef struct {
   M2dSurface       nm, m;
   M2dSegmentSet    seg;
-  M2dContactRows   R;
-  PetscInt         off; /* its first row in the interface's rows */
+  M2dContactRows   R;   /* normal rows: the weighted gaps */
+  M2dContactRows   T;   /* with friction (mu > 0): tangential rows, node for node as R (T.n = 0 without) */
+  PetscInt         off; /* its first normal row in the interface's rows */
+  PetscInt         toff; /* its first tangential row there */
   PetscReal        reach;
+  PetscReal        mu;  /* Coulomb friction coefficient */
   M2dContactMethod method;
   M2dMortarBasis   basis;
   const M2dPair   *def; /* the scene's entry (names, messages) */
-  /* results: the interface's arrays from row off */
+  /* results: the interface's arrays from node off */
   PetscReal *pressure, *gap, *active;
+  PetscReal *traction, *slip, *slip_inc, *status;
   PetscReal  force[2]; /* total contact force on the non-mortar body */
   PetscReal  force_n;  /* integral of the contact pressure */
+  PetscReal  force_t;  /* integral of the tangential traction (along each node's tangent t = (-n_y, n_x)) */
+  PetscInt   nstick, nslip; /* nodes in contact that stick, that slip (frictionless: every closed node slips) */
 } M2dContactPair;
 
-/* The interface: every pair, and their rows one pair after another (pair k's
- * from pair[k].off). Shared-node rule: a node on two non-mortar surfaces
- * (a corner of a body in two pairs) has one multiplier in each pair, with
- * that pair's normal and gap; the pairs' rows are never merged. */
+/* contact_status of a node (the point field and the CSV) */
+#define M2D_STATUS_OPEN  0
+#define M2D_STATUS_STICK 1
+#define M2D_STATUS_SLIP  2
+
+/* The interface: every pair, and their rows: the normal rows one pair after
+ * another (pair k's from pair[k].off), then the tangential rows of the pairs
+ * with friction (pair k's from pair[k].toff), each row's normal row in
+ * partner. Shared-node rule: a node on two non-mortar surfaces (a corner of a
+ * body in two pairs) has one multiplier in each pair, with that pair's normal
+ * and gap; the pairs' rows are never merged. */
 typedef struct {
   PetscInt        npair;
   M2dContactPair *pair;
   M2dContactRows  R;       /* all rows; R.node is the node of its own pair's non-mortar surface */
+  PetscInt        nnormal; /* the normal rows, R's first: one per contact node */
   PetscInt       *rowpair; /* the pair of each row */
-  /* results, on every rank, one per multiplier */
+  PetscInt       *partner; /* a tangential row's normal row, -1 for a normal row */
+  /* results, on every rank, one per contact node (normal row) */
   PetscReal *pressure, *gap, *active;
+  PetscReal *traction; /* tangential multiplier: the friction force per length on the non-mortar body along t (0 without friction) */
+  PetscReal *slip;     /* accumulated slip along t of the non-mortar node relative to the mortar surface (length) */
+  PetscReal *slip_inc; /* the last load step's */
+  PetscReal *status;   /* M2D_STATUS_* */
 } M2dContact;
 
 /* Every pair of s (s->pair) in reference units; L: the length unit (reach
@@ -42,8 +61,12 @@ typedef struct {
  * group, a group on two bodies, a pair whose sides lie on one body.
  * Collective (the surfaces are gathered on every rank). */
 PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2dContact *c);
-/* active: final active set (layout of lam), NULL when every node is held closed */
-PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active);
+/* From the solve of one load step (reference units): the rows C (kkt.h) and
+ * their right-hand side r of that step, its u, lam and active (1: a closed
+ * normal row or a sticking tangential row, layout of r; NULL when every node
+ * is held closed), and slip (the accumulated weighted slip of the tangential
+ * rows, layout of r; NULL without friction). Collective. */
+PetscErrorCode ContactResults(M2dContact *c, Mat C, Vec r, Vec u, Vec lam, Vec active, Vec slip);
 typedef struct {
   PetscReal a, p0;           /* Hertz half-width and peak pressure */
   PetscReal half_width;      /* computed: midway between the last active and first inactive node */
@@ -52,8 +75,21 @@ typedef struct {
   PetscReal pressure_l2_rel; /* ||p_h - p||_L2(0, 1.5a) / ||p||_L2(0, 1.5a), p_h piecewise linear */
 } M2dHertzResult;
 /* plane strain Hertz for a cylinder (radius R, load P per unit thickness) on a
- * half-space; the symmetry axis is x = 0 and contact is in the y direction */
+ * half-space, centred at x = 0 and pressing in y; a half model (the pair on
+ * one side of x = 0) is measured on [0, 1.5a], a whole one on [-1.5a, 1.5a].
+ * Not collective. */
 PetscErrorCode ContactHertz(const M2dContactPair *c, const M2dScene *s, M2dHertzResult *h);
+typedef struct {
+  PetscReal c;            /* the stick zone's half-width: midway between its outermost sticking nodes and their neighbours */
+  PetscReal c_exact;      /* Cattaneo-Mindlin: a sqrt(1 - Q/(mu P)), Q the pair's tangential force */
+  PetscReal shear_l2_rel; /* relative L2 error of the shear traction's even part against Cattaneo-Mindlin's q(x) on [-1.5a, 1.5a] */
+  PetscReal shear_odd_rel; /* the odd part's norm over q's (zero for half-spaces: the finite bodies' own shear) */
+} M2dCattaneoResult;
+/* Cattaneo-Mindlin for pair c (a whole cylinder, -cattaneo) after Hertz h:
+ * the stick zone and the shear traction q(x) = mu p0 (sqrt(1 - x^2/a^2) -
+ * (c/a) sqrt(1 - x^2/c^2)) for |x| < c, mu p(x) for c <= |x| <= a. Not
+ * collective. */
+PetscErrorCode ContactCattaneo(const M2dContactPair *c, const M2dScene *s, const M2dHertzResult *h, M2dCattaneoResult *r);
 /* Point fields in the displacement layout (after ContactResults; every rank
  * calls, rank 0 sets): field component 0 the contact pressure, 1 the gap, on
  * the non-mortar nodes with a multiplier and, interpolated from those nodes
@@ -61,9 +97,19 @@ PetscErrorCode ContactHertz(const M2dContactPair *c, const M2dScene *s, M2dHertz
  * them); elsewhere pressure 0 and gap NaN. active component 0: 1 or 0 on the
  * non-mortar surface (0 where it has no multiplier), NaN elsewhere. Collective. */
 PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active);
-/* The interface as CSV, one row per multiplier, pair by pair, sorted by x in
- * each: x, y, gap, pressure, weight, active, pair (1, 2, ...), run_id. Not collective (every rank has the rows). */
-PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp);
+/* The same for friction (user or reference units as c's results):
+ * traction_slip gets the tangential traction (0 off the interface) and the
+ * accumulated slip (NaN off it), increment_status the last load step's slip
+ * and the contact status (M2D_STATUS_*; NaN off the interface; the mortar
+ * side shows its nearest non-mortar node's). Collective. */
+PetscErrorCode ContactFillFriction(const M2dContact *c, Vec traction_slip, Vec increment_status);
+/* The interface as CSV, one row per contact node, pair by pair, sorted by x
+ * in each: x, y, gap, pressure, weight, active, pair (1, 2, ...), with
+ * friction traction_t, slip, slip_increment, status, then run_id; a load
+ * history (nstep > 1) has a first column step and every step's rows, from
+ * steps[k] (M2D_STEP_NODE_FIELDS values per node, solver.h), else c's
+ * results. Not collective (every rank has the rows). */
+PetscErrorCode ContactWriteCSV(const M2dContact *c, PetscInt nstep, const PetscReal *const steps[], const char *run_id, FILE *fp);
 /* The contact state of a solved problem, kept to start the next one (an
  * adapted mesh of the same scene): the non-mortar nodes that carried a
  * multiplier, their positions (user units) and whether they were active. */

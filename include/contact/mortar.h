@@ -58,8 +58,11 @@ typedef enum {
 void           MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMortarBasis basis, PetscReal D[4], PetscReal M[4]);
 /* The contact rows of the segments S (one per non-mortar node the mortar
  * surface covers), or of node-to-segment projection within reach (NTS); the
- * same on every rank; *R is the caller's (ContactRowsDestroy). Not collective. */
-PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R);
-PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R);
+ * same on every rank; *R is the caller's (ContactRowsDestroy). With tangent
+ * the rows hold the weighted relative displacement along the tangent t =
+ * (-n_y, n_x) of each row's normal n instead (Coulomb friction: the same
+ * nodes, in the same order, with the same columns; g0 = 0). Not collective. */
+PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, PetscBool tangent, M2dContactRows *R);
+PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, PetscBool tangent, M2dContactRows *R);
 PetscErrorCode ContactRowsDestroy(M2dContactRows *R);
 #endif

@@ -32,6 +32,13 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2d
 PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt *n, PetscInt **rows, PetscScalar **vals);
 /* Apply Dirichlet rows to K, f (symmetric elimination, u set on those rows) */
 PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);
+/* The same elimination's effect on another load case, K left as it is
+ * (before ElasticityApplyDirichlet): u = the values on the rows, f <- f - K u
+ * on the free rows and diag u on the held ones. Collective. */
+PetscErrorCode ElasticityLiftDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[]);
+/* The edge loads of load stage `stage` > 0 alone (scene.h), in the frames'
+ * coordinates. Collective. */
+PetscErrorCode ElasticityStageLoad(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt stage, Vec f);
 /* per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises (5 per cell) */
 PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *stress);
 
@@ -40,8 +47,10 @@ PetscErrorCode ElasticityCellStress(const M2dMesh *m, const M2dScene *s, Vec u, 
  * rotation |u_y,x - u_x,y| / 2. Not collective (u's ghosts: collective). */
 PetscErrorCode ElasticityCellStrain(const M2dMesh *m, const M2dScene *s, Vec u, PetscReal *strain);
 
-/* integral of the pressure of load l over its curve (global) */
-PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R);
+/* integral of the pressure of load l over its curve (global); *both: the
+ * curve reaches both sides of x = 0 (a whole body, not a half one with its
+ * symmetry plane at x = 0). Collective. */
+PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R, PetscBool *both);
 
 /* manufactured solution (-exact mms) on body b */
 void M2dMMSDisplacement(const M2dScene *s, PetscReal x, PetscReal y, PetscReal u[2]);

@@ -32,6 +32,10 @@ typedef struct {
 /* The supports of s per vertex. Collective. */
 PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *fr);
 PetscErrorCode M2dFramesDestroy(M2dFrames *fr);
+/* The frames of load stage `stage` > 0 (scene.h): fr's supports (the same
+ * frames and held dofs) with the values that stage's -stage<k>_dirichlet
+ * adds (0 where it adds none), into *frs. Collective. */
+PetscErrorCode M2dFramesStage(const M2dMesh *m, const M2dScene *s, PetscInt stage, const M2dFrames *fr, M2dFrames *frs);
 /* local vertex v (a point) has a frame; its n in n[2]. Not collective. */
 PetscBool M2dFramesAt(const M2dFrames *fr, const M2dMesh *m, PetscInt v, PetscReal n[2]);
 /* Ke <- Te^T Ke Te for the cell's 4 vertices (8x8 row major); fe (may be NULL) <- Te^T fe. Not collective. */

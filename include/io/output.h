@@ -59,9 +59,20 @@ PetscErrorCode OutputBegin(MPI_Comm comm, const M2dOutputPaths *paths, M2dOutput
 /* Rank 0 only: open the temporary of DIR/N<suffix>, or of the summary when
  * suffix is NULL, for writing through *fp (complete it by OutputCommit). */
 PetscErrorCode OutputFile(M2dOutput *o, const char *suffix, FILE **fp);
+/* A load history's earlier states, for ParaView's time series: step k's
+ * fields (usually fewer than the final state's) at pseudo-time time[k]. */
+typedef struct {
+  PetscInt           n;
+  const PetscReal   *time;
+  const M2dFieldSet *step;
+} M2dSeries;
+
 /* Write N.vtu and N.h5 + N.xmf (as paths->vtu, paths->h5 say) under their
- * temporary names. Collective; errors raised on every rank. */
-PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs);
+ * temporary names: the fields fs of the final state; with a series (NULL:
+ * none) the .h5 also holds each earlier state in /steps/K/ and the .xmf is a
+ * temporal collection, its last time the final state (time_final). Collective;
+ * errors raised on every rank. */
+PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *series, PetscReal time_final);
 /* Close the files and rename them into place, in the order they were added.
  * Collective; errors raised on every rank, the temporaries then removed. */
 PetscErrorCode OutputCommit(M2dOutput *o);

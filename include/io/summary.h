@@ -40,6 +40,9 @@ PetscErrorCode M2dSummaryListReal(M2dSummary *s, const char *list, PetscInt inde
 PetscErrorCode M2dSummaryListInt(M2dSummary *s, const char *list, PetscInt index, const char *key, PetscInt v);
 PetscErrorCode M2dSummaryListString(M2dSummary *s, const char *list, PetscInt index, const char *key, const char *v);
 
+/* Set key of list element `index` to the array [v[0], ..., v[n-1]] (numbers; NaN/Inf: null). */
+PetscErrorCode M2dSummaryListArray(M2dSummary *s, const char *list, PetscInt index, const char *key, PetscInt n, const PetscReal v[]);
+
 /* Print the summary as one JSON object (a failure recorded by the setters is
  * not checked here: M2dSummaryWrite raises it). Not collective. */
 void M2dSummaryPrint(FILE *fp, const M2dSummary *s);

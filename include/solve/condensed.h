@@ -74,8 +74,16 @@ PetscErrorCode CondensedGaps(M2dCondensed *cs, Vec nu, Vec cu);
  * -h (I + g S0) (inactive); J dense (MATDENSE), layout of C's rows. Collective. */
 PetscErrorCode CondensedJacobian(M2dCondensed *cs, Vec active, PetscReal c, PetscReal h, Mat J);
 /* LU of the dense J (from CondensedJacobian) on every rank; then x = J^-1 b
- * (layout of C's rows). Collective. */
-PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J);
+ * (layout of C's rows). With friction (partner not NULL; partner, rule and
+ * coef: every row, as activeset.c keeps them) a slipping row j (rule 0,
+ * coef[j] = s != 0, p = partner[j], a closed normal row) is
+ * -h (e_j + g S0_j) + h s (e_p + (g + c) S0_p): the row
+ * lambda_j = s (lambda_p + c (C u - r)_p) of the force's rule, added to the
+ * gathered rows as h s e_p + s (g + c)/c J_p. Collective. */
+PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J, const PetscInt partner[], const PetscReal rule[], const PetscReal coef[], PetscReal c, PetscReal h);
+/* A new load f (another load step): w = C K_g^-1 f condensed anew (one
+ * forward elimination). Collective. */
+PetscErrorCode CondensedSetLoad(M2dCondensed *cs, Vec f);
 PetscErrorCode CondensedJacobianSolve(M2dCondensed *cs, Vec b, Vec x);
 /* u = u(nu) = Kg^-1 (f - C^T nu) by MUMPS' expansion phase (any number of
  * times; u: layout of Kg's rows); without `load` u = -Kg^-1 C^T nu (a dual

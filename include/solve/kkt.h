@@ -21,12 +21,18 @@
  * fieldsplit the operator (nest, A, A0, isu, isl, b, x, aij). */
 typedef struct {
   /* the problem */
-  PetscInt nlam; /* multipliers (candidate contact rows) */
-  Mat      K;    /* elasticity, Dirichlet rows applied (referenced) */
-  Vec      f;    /* load, Dirichlet-lifted (referenced) */
-  Mat      C;    /* nlam x Nu, Dirichlet columns zeroed: all candidate rows */
-  Mat      Ct;   /* C^T */
-  Vec      r;    /* right-hand side of the multiplier rows, g0 - C u_D */
+  PetscInt  nlam;    /* multipliers (candidate contact rows) */
+  Mat       K;       /* elasticity, Dirichlet rows applied (referenced) */
+  Vec       f;       /* load, Dirichlet-lifted (referenced) */
+  Mat       C;       /* nlam x Nu, Dirichlet columns zeroed: all candidate rows */
+  Mat       Ct;      /* C^T */
+  Vec       r;       /* right-hand side of the multiplier rows, g0 - C u_D (KKTSetLoad) */
+  /* friction: tangential rows (kkt.h's rows after the normal ones, contact.h) */
+  PetscInt *partner; /* each row's normal row (-1: a normal row), every rank; NULL without friction */
+  Mat       P;       /* row j: C's row partner[j] (its Dirichlet columns zeroed), 0 on normal rows; C's pattern */
+  /* the load step (KKTSetLoad) */
+  Mat       C0;      /* C before its Dirichlet columns were zeroed */
+  Vec       g0;      /* the rows' constants: the weighted gaps of the reference configuration (0 on tangential rows) */
   /* the blocks of the current active set */
   Mat       CA;    /* the (lambda,u) block: rows of C, inactive ones zeroed, scaled */
   Mat       Kblk;  /* the (u,u) block: K, or K + gamma CA^T CA */
@@ -43,14 +49,28 @@ typedef struct {
 } M2dKKT;
 
 /* The KKT blocks of rows R on K, f (supports eliminated; ubc holds the
- * prescribed values, drows this rank's Dirichlet rows); with `condensed` the
- * monolithic matrix is not built (condensed.h reads the blocks). K and f are
- * referenced, not copied. Collective. */
-PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
+ * prescribed values, drows this rank's Dirichlet rows); partner (R->n
+ * entries, or NULL without friction): a tangential row's normal row, -1 for
+ * a normal row; with `condensed` the monolithic matrix is not built
+ * (condensed.h reads the blocks). K and f are referenced, not copied.
+ * Collective. */
+PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
+/* A load step: f (referenced: the caller has changed it) and the support
+ * values ubc of the step, and uprev, the displacement the step starts from
+ * (layout of f; NULL: 0). The rows' right-hand side becomes
+ *   r = g0 - C0 ubc + C0 uprev on the tangential rows,
+ * so that on a normal row r - C u = g~ (the weighted gap) and on a
+ * tangential row r - C u = B_t (u - uprev), the weighted slip of the step,
+ * positive when the non-mortar side moves along t relative to the mortar
+ * side; and b (the full path's right-hand side). Collective. */
+PetscErrorCode KKTSetLoad(M2dKKT *kkt, Vec ubc, Vec uprev);
 /* Multiplier rows of A: active[j] != 0 gives the constraint row scale * C_j,
- * active[j] = 0 gives -(scale / c) e_j (lambda_j = 0). Rebuilds the augmented
- * block and A. `scale` turns weighted gaps into forces (see activeset.c). */
-PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scale);
+ * active[j] = 0 gives -(scale / c) (e_j - s_j e_p) + s_j scale C_p with
+ * s_j = slip[j] and p = partner[j] (a slipping tangential row: lambda_j =
+ * s_j (lambda_p + c (C u - r)_p), s_j = +-mu; slip NULL or s_j = 0:
+ * lambda_j = 0). Rebuilds the augmented block (from the active rows) and A.
+ * `scale` turns weighted gaps into forces (see activeset.c). */
+PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, Vec slip, PetscReal c, PetscReal scale);
 /* A Krylov ksp (not KSPPREONLY: a direct solve passes) that diverged, or, with
  * settled FALSE (an active set that failed), that solved its steps to a
  * -ksp_rtol above 1e-8: one line "WHAT: ..." naming its tolerances. Collective. */

@@ -10,6 +10,19 @@
 #include "activeset.h"
 #include "problem.h"
 
+/* one load step of a history (scene.h: stages and steps), kept for the
+ * report: its answer's vectors (frames' coordinates, reference units) */
+typedef struct {
+  PetscInt  stage, step; /* stage 0 .., step 1 .. of that stage */
+  PetscReal time;        /* the load's pseudo-time: stage + step / the stage's steps */
+  PetscInt  iterations;  /* active-set steps of this load step */
+  Vec       u, lam, active, slip, r; /* the answer; the rows' right-hand side of the step (kkt.h) */
+  PetscReal *nodes;      /* the report's: the interface at the step's end, user units, M2D_STEP_NODE_FIELDS per contact node */
+} M2dLoadStep;
+
+/* M2dLoadStep.nodes: pressure, gap, active, traction, slip, slip increment, status */
+#define M2D_STEP_NODE_FIELDS 7
+
 typedef struct {
   M2dSolverPath    path;
   Vec              u;       /* displacement (reference units) */
@@ -20,6 +33,9 @@ typedef struct {
   M2dActiveSetInfo as;      /* active-set paths */
   PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
   PetscReal       *sv;      /* the estimator's recovered stresses per local vertex (sigma_x, sigma_y, sigma_xy), or NULL */
+  Vec              slip;    /* friction: each tangential row's accumulated weighted slip (layout of lam), or NULL */
+  PetscInt         nstep;   /* load steps taken */
+  M2dLoadStep     *steps;   /* with more than one: each one's answer, or NULL */
 } M2dSolution;
 
 /* The path for scene s on mesh m (NULL: not read yet); sets s->kkt_augment

@@ -5,8 +5,13 @@
  * contact conditions in reference units (units.h: pressures relative to the
  * load stress, gaps relative to the reference displacement): the largest of
  * max(-lambda_j, 0), max(-g_j, 0) and |lambda_j g_j| over the multipliers.
- * Both must be below M2D_VERIFY_TOL; otherwise the run stops with one line
- * that names the figure, its likely cause and what to change. */
+ * With friction, Coulomb's law at every contact node (reference units):
+ * |lambda_t| <= mu lambda_n (an open node: lambda_t = 0); a sticking node has
+ * not slipped in the last load step (|s| <= the tolerance); a slipping one
+ * carries |lambda_t| = mu lambda_n and its slip s opposes its friction force
+ * (lambda_t s <= 0). Each must be below M2D_VERIFY_TOL; otherwise the run
+ * stops with one line that names the figure, its likely cause and what to
+ * change. */
 #ifndef M2D_VERIFY_H
 #define M2D_VERIFY_H
 #include "solver.h"
@@ -19,6 +24,7 @@
 typedef struct {
   PetscReal residual_rel;    /* equilibrium, relative */
   PetscReal complementarity; /* contact conditions, reference units; 0 without unilateral contact */
+  PetscReal coulomb;         /* friction: the largest violation of Coulomb's law, reference units; 0 without friction */
   PetscReal strain_max;      /* the largest strain or rotation (M2dVerifyStrain) */
 } M2dVerification;
 

@@ -406,7 +406,7 @@ static PetscErrorCode Balance(PrevMesh *prev, const M2dContactPair *c, PetscReal
   for (PetscInt e = 0; e < c->nm.nedge; e++) cnm[e] = EdgeCell(prev, vptr, vadj, &c->nm, e);
   for (PetscInt e = 0; e < c->m.nedge; e++) cm[e] = EdgeCell(prev, vptr, vadj, &c->m, e);
   for (PetscInt i = 0; i < c->nm.nnode; i++) gap[i] = PETSC_MAX_REAL;
-  for (PetscInt j = 0; j < c->R.n; j++) gap[c->R.node[j]] = PetscAbsReal(c->gap[j]);
+  for (PetscInt j = 0; j < c->R.n; j++) gap[c->R.node[j]] = PetscAbsReal(c->gap[j]); /* c: one pair (its normal rows) */
   PetscCall(PetscMalloc1(prev->msh.nquad + 1, &h0)); /* every pair from the sizes as they came: the order of the segments cannot matter */
   PetscCall(PetscArraycpy(h0, prev->hcell, prev->msh.nquad));
   for (PetscInt k = 0; k < S->nseg; k++) {

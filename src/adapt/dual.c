@@ -96,7 +96,7 @@ static PetscErrorCode DualSolveCondensed(M2dCondensed *cs, const M2dSolution *so
   PetscCall(VecGetSize(b, &N));
   PetscCall(MatCreateDense(PetscObjectComm((PetscObject)b), n, n, N, N, NULL, &J));
   PetscCall(CondensedJacobian(cs, sol->active, 1.0, 1.0, J)); /* active rows S0, inactive -(I + g S0) */
-  PetscCall(CondensedJacobianFactor(cs, J));
+  PetscCall(CondensedJacobianFactor(cs, J, NULL, NULL, NULL, 0, 0));
   PetscCall(VecDuplicate(b, &nu));
   PetscCall(CondensedJacobianSolve(cs, b, nu));
   PetscCall(CondensedRecover(cs, PETSC_FALSE, nu, z));
@@ -118,8 +118,8 @@ static PetscErrorCode DualSolveKKT(M2dProblem *pb, const M2dSolution *sol, Vec b
   PetscFunctionBeginUser;
   s.kkt_mat     = M2D_KKT_AIJ;
   s.kkt_augment = 0;
-  PetscCall(KKTCreate(&s, PETSC_FALSE, &pb->Rkkt, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &dk));
-  PetscCall(KKTSetActive(&dk, sol->active, 1.0, 1.0)); /* the final set: active rows C_j, the others mu_j = 0 */
+  PetscCall(KKTCreate(&s, PETSC_FALSE, &pb->Rkkt, NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &dk));
+  PetscCall(KKTSetActive(&dk, sol->active, NULL, 1.0, 1.0)); /* the final set: active rows C_j, the others mu_j = 0 */
   PetscCall(VecZeroEntries(dk.b));
   PetscCall(VecISCopy(dk.b, dk.isl, SCATTER_FORWARD, b));
   PetscCall(KSPCreate(comm, &ksp));

@@ -351,7 +351,7 @@ static void Traction(const PetscReal sig[3], const PetscReal n[2], PetscReal *p,
 
 /* traction jumps on one segment: jn (non-mortar side) and jm (mortar side),
  * int (p* - lambda)^2 + tau*^2 ds, 3-point Gauss (the integrands are quartic) */
-static void SegmentJumps(const M2dContactPair *ct, const Surf *sf, const PetscReal lamn[], const M2dSegment *sg, PetscReal *jn, PetscReal *jm)
+static void SegmentJumps(const M2dContactPair *ct, const Surf *sf, const PetscReal lamn[], const PetscReal lamt[], const M2dSegment *sg, PetscReal *jn, PetscReal *jm)
 {
   const M2dSurface *nm = &ct->nm, *ms = &ct->m;
   const PetscInt    a = nm->edge[2 * sg->nm_edge], b = nm->edge[2 * sg->nm_edge + 1];
@@ -363,15 +363,16 @@ static void SegmentJumps(const M2dContactPair *ct, const Surf *sf, const PetscRe
     PetscReal z = zm + zh * g3[q], ds = w3[q] * zh * 0.5 * nm->len[sg->nm_edge];
     PetscReal xi = sg->xi[0] + (sg->xi[1] - sg->xi[0]) * (z - sg->zeta[0]) / (2 * zh);
     PetscReal N1 = 0.5 * (1 - z), N2 = 0.5 * (1 + z), M1 = 0.5 * (1 - xi), M2 = 0.5 * (1 + xi);
-    PetscReal lam = N1 * lamn[a] + N2 * lamn[b], sn[3], sm[3], p, tau;
+    PetscReal lam = N1 * lamn[a] + N2 * lamn[b], lt = N1 * lamt[a] + N2 * lamt[b], sn[3], sm[3], p, tau;
     for (int r = 0; r < 3; r++) {
       sn[r] = N1 * sf->snm[3 * a + r] + N2 * sf->snm[3 * b + r];
       sm[r] = M1 * sf->sm[3 * ma + r] + M2 * sf->sm[3 * mb + r];
     }
+    /* the friction force lt acts along the rows' tangent, against each side's own (t = (-n_y, n_x)): tau = -lt */
     Traction(sn, &nm->normal[2 * sg->nm_edge], &p, &tau);
-    *jn += ds * (PetscSqr(p - lam) + tau * tau);
+    *jn += ds * (PetscSqr(p - lam) + PetscSqr(tau + lt));
     Traction(sm, &ms->normal[2 * sg->m_edge], &p, &tau);
-    *jm += ds * (PetscSqr(p - lam) + tau * tau);
+    *jm += ds * (PetscSqr(p - lam) + PetscSqr(tau + lt));
   }
 }
 
@@ -400,7 +401,7 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContactPair *ct, const
   const M2dSurface    *nm = &ct->nm, *ms = &ct->m;
   const M2dSegmentSet *S  = &ct->seg;
   M2dSegmentSet        own;
-  PetscReal           *lamn, *gapn, Enm = x->bm[nm->body].Ep, Em = x->bm[ms->body].Ep, Es = 1 / (1 / Enm + 1 / Em);
+  PetscReal           *lamn, *lamt, *gapn, Enm = x->bm[nm->body].Ep, Em = x->bm[ms->body].Ep, Es = 1 / (1 / Enm + 1 / Em);
   PetscInt            *mult;
 
   PetscFunctionBeginUser;
@@ -409,10 +410,11 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContactPair *ct, const
     PetscCall(MortarBuildSegments(nm, ms, ct->reach, &own));
     S = &own;
   }
-  PetscCall(PetscCalloc3(nm->nnode + 1, &lamn, nm->nnode + 1, &gapn, nm->nnode + 1, &mult));
+  PetscCall(PetscCalloc4(nm->nnode + 1, &lamn, nm->nnode + 1, &lamt, nm->nnode + 1, &gapn, nm->nnode + 1, &mult));
   for (PetscInt i = 0; i < nm->nnode; i++) mult[i] = -1;
   for (PetscInt j = 0; j < ct->R.n; j++) {
     lamn[ct->R.node[j]] = ct->pressure[j];
+    lamt[ct->R.node[j]] = ct->traction[j];
     gapn[ct->R.node[j]] = ct->gap[j];
     mult[ct->R.node[j]] = j;
   }
@@ -421,7 +423,7 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContactPair *ct, const
     PetscInt          cn = sf->nmcell[sg->nm_edge], cm = sf->mcell[sg->m_edge];
     PetscReal         jn, jm;
     if (cn < 0 && cm < 0) continue;
-    SegmentJumps(ct, sf, lamn, sg, &jn, &jm);
+    SegmentJumps(ct, sf, lamn, lamt, sg, &jn, &jm);
     if (cn >= 0) {
       eta2[cn] += nm->len[sg->nm_edge] / Enm * jn;
       *sum += nm->len[sg->nm_edge] / Enm * jn;
@@ -439,7 +441,7 @@ static PetscErrorCode ContactTerms(const Ctx *x, const M2dContactPair *ct, const
       eta2[sf->nmcell[e]] += r;
       *sum += r;
     }
-  PetscCall(PetscFree3(lamn, gapn, mult));
+  PetscCall(PetscFree4(lamn, lamt, gapn, mult));
   PetscCall(SegmentSetDestroy(&own));
   PetscFunctionReturn(0);
 }
@@ -511,11 +513,11 @@ PetscErrorCode M2dEstimateError(const M2dMesh *m, const M2dScene *s, Vec u, cons
 static void ExactStress(const M2dScene *s, const BodyMat *bm, PetscReal px, PetscReal py, PetscReal dh, PetscReal sig[3])
 {
   PetscReal eps[3], up[2], um[2], vp[2], vm[2];
-  if (s->exact == M2D_EXACT_UNIFORM) { /* -p y' y'^T, y' = (-sin, cos) of -exact_angle */
-    PetscReal sn = PetscSinReal(s->exact_angle * PETSC_PI / 180), cs = PetscCosReal(s->exact_angle * PETSC_PI / 180);
-    sig[0] = -s->exact_p * sn * sn;
-    sig[1] = -s->exact_p * cs * cs;
-    sig[2] = s->exact_p * sn * cs;
+  if (s->exact == M2D_EXACT_UNIFORM) { /* -p y' y'^T + tau (x' y'^T + y' x'^T), x' = (cos, sin), y' = (-sin, cos) of -exact_angle */
+    PetscReal sn = PetscSinReal(s->exact_angle * PETSC_PI / 180), cs = PetscCosReal(s->exact_angle * PETSC_PI / 180), tau = s->exact_tau;
+    sig[0] = -s->exact_p * sn * sn - 2 * tau * sn * cs;
+    sig[1] = -s->exact_p * cs * cs + 2 * tau * sn * cs;
+    sig[2] = s->exact_p * sn * cs + tau * (cs * cs - sn * sn);
     return;
   }
   M2dMMSDisplacement(s, px + dh, py, up);

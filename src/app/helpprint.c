@@ -28,7 +28,7 @@ static size_t stream_len, stream_done;
 
 /* the program's sections, in the order they are printed (a title prefix each) */
 static const char *const job_order[] = {
-  "mortar2d: scene and mesh",   "mortar2d: materials",  "Material of body '",        "mortar2d: loads and supports", "mortar2d: contact",
+  "mortar2d: scene and mesh",   "mortar2d: materials",  "Material of body '",        "mortar2d: loads and supports", "mortar2d: load history", "mortar2d: load stage", "mortar2d: contact",
   "mortar2d: solver paths",     "mortar2d: checks",     "mortar2d: error estimate", "mortar2d: adaptive meshes",    "mortar2d: output",
   "mortar2d", /* any other section of the program */
 };

@@ -26,7 +26,7 @@
 #include <strings.h>
 #include <unistd.h>
 
-static const char help[] = "mortar2d: 2D frictionless contact of linear elastic bodies (small strain, Q4, mortar or node-to-segment).\n"
+static const char help[] = "mortar2d: 2D contact of linear elastic bodies, frictionless or Coulomb (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
                            "-help: the program's options by job, each with its default; -help_petsc: PETSc's own after them.\n"
                            "The materials -NAME_E, -NAME_nu are listed for the bodies of -bodies: mortar2d -help -bodies lower,upper\n\n";
@@ -97,6 +97,9 @@ static PetscErrorCode Run(MPI_Comm comm)
   }
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
   PetscCall(CheckOutputPaths(comm, &s));
+  /* a history's states (friction's slip, the stick and slip sets) would have to pass from one mesh to the next */
+  PetscCheck(!ao.enabled || !SceneHasFriction(&s), comm, PETSC_ERR_USER_INPUT, "option -adapt: friction depends on the load path, whose state (the slip so far) a new mesh cannot inherit here; solve it on a fixed mesh graded to the contact (as options/cattaneo.opts)");
+  PetscCheck(!ao.enabled || SceneLoadSteps(&s) == 1, comm, PETSC_ERR_USER_INPUT, "option -adapt: the adaptive loop solves one load step per mesh; drop -load_steps and -load_stages (without friction the last step's answer is the one-step answer)");
   if (ao.enabled) PetscFunctionReturn(AdaptRun(comm, &s, &ao, &eo)); /* model only what the scene needs */
   ierr = M2dStepSolve(comm, &s, NULL, NULL, &eo, &st);
   if (!ierr) ierr = M2dStepWrite(&st, NULL); /* -mesh_save was written with the mesh */

@@ -52,10 +52,11 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   M2dUnitsScaleScene(&pb->units, &pb->s);
   PetscCallMPI(MPI_Comm_size(comm, &size));
   pb->s.kkt_ordering = M2dOrderingFor(pb->s.kkt_ordering, 2 * pb->mesh.nvert_global, size); /* auto resolved for this mesh */
-  if (pb->s.hertz && !pb->s.hertz_load_set) { /* quarter model: the full cylinder carries twice the load */
-    PetscCall(ElasticityPressureResultant(&pb->mesh, &pb->s.load[0], &pb->s.hertz_load));
-    pb->s.hertz_load *= 2;
-    PetscCheck(pb->s.hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: the load on '%s' is not a compressive force (resultant %g)", user->load[0].group, (double)(pb->s.hertz_load / 2 * pb->units.S * pb->units.L));
+  if (pb->s.hertz && !pb->s.hertz_load_set && pb->s.nload > 0 && pb->s.load[0].is_pressure) { /* a half model (its load on one side of x = 0): the full cylinder carries twice the load */
+    PetscBool both;
+    PetscCall(ElasticityPressureResultant(&pb->mesh, &pb->s.load[0], &pb->s.hertz_load, &both));
+    if (!both) pb->s.hertz_load *= 2;
+    PetscCheck(pb->s.hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: the load on '%s' is not a compressive force (resultant %g)", user->load[0].group, (double)(pb->s.hertz_load / (both ? 1 : 2) * pb->units.S * pb->units.L));
   }
   PetscCall(SceneView(comm, user));
   PetscFunctionReturn(0);
@@ -122,6 +123,46 @@ static PetscErrorCode CheckSupports(const M2dProblem *pb)
   SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -dirichlet: the vertex at (%g, %g) is given two different displacements along one direction by groups that meet there; give it one value", xy[0], xy[1]);
 }
 
+/* A load history: each later stage's loads and support values, lifted like
+ * the scene's (whose case 0 is copied once eliminated) */
+static PetscErrorCode LoadCases(M2dProblem *pb)
+{
+  const M2dScene *s = &pb->s;
+
+  PetscFunctionBeginUser;
+  if (s->nstage == 1 && s->stage_steps[0] == 1) PetscFunctionReturn(0);
+  pb->ncase = s->nstage;
+  PetscCall(VecDuplicateVecs(pb->f, pb->ncase, &pb->fcase));
+  PetscCall(VecDuplicateVecs(pb->f, pb->ncase, &pb->ubccase));
+  for (PetscInt k = 1; k < pb->ncase; k++) {
+    M2dFrames    fr;
+    PetscInt     n, *rows;
+    PetscScalar *vals;
+    PetscCall(M2dFramesStage(&pb->mesh, s, k, &pb->frames, &fr));
+    PetscCall(ElasticityDirichletRows(&pb->mesh, s, &fr, &n, &rows, &vals));
+    PetscCall(M2dFramesDestroy(&fr));
+    PetscCall(ElasticityStageLoad(&pb->mesh, s, &pb->frames, k, pb->fcase[k]));
+    PetscCall(ElasticityLiftDirichlet(pb->K, pb->fcase[k], pb->ubccase[k], n, rows, vals));
+    PetscCall(PetscFree(rows));
+    PetscCall(PetscFree(vals));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProblemSetLoad(M2dProblem *pb, PetscInt stage, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  if (!pb->ncase) PetscFunctionReturn(0); /* one step: f and ubc are the scene's */
+  PetscCall(VecZeroEntries(pb->f));
+  PetscCall(VecZeroEntries(pb->ubc));
+  for (PetscInt k = 0; k <= stage; k++) {
+    PetscReal a = k < stage ? 1.0 : (PetscReal)step / (PetscReal)pb->s.stage_steps[stage];
+    PetscCall(VecAXPY(pb->f, a, pb->fcase[k]));
+    PetscCall(VecAXPY(pb->ubc, a, pb->ubccase[k]));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* K (with room for C^T C, block size 2, rigid-body modes), f, the supports eliminated */
 static PetscErrorCode Assemble(M2dProblem *pb)
 {
@@ -146,9 +187,14 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   /* dvals is freed whatever happens (a body held by nothing, the commonest bad
    * input, lost it: valgrind 48-192 bytes) */
   ierr = M2dSupportsCreate(m, &pb->s, &pb->frames, pb->ndir, pb->drows, &pb->supports);
+  if (!ierr) ierr = LoadCases(pb); /* K as assembled: before the elimination */
   if (!ierr) ierr = ElasticityApplyDirichlet(pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, dvals);
   PetscCall(PetscFree(dvals));
   PetscCall(ierr);
+  if (pb->ncase) {
+    PetscCall(VecCopy(pb->f, pb->fcase[0]));
+    PetscCall(VecCopy(pb->ubc, pb->ubccase[0]));
+  }
   PetscCall(M2dSupportsCheck(&pb->supports, PetscObjectComm((PetscObject)m->dm), &pb->s, pb->has_contact ? &pb->contact : NULL, NULL, NULL));
   PetscCall(NearNullSpace(pb));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_DIRICHLET], 0, 0, 0, 0));
@@ -175,7 +221,7 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
   if (pb->has_contact) {
     PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
     PetscCall(M2dFramesRotateRows(&pb->frames, &pb->mesh, &pb->contact.R, &pb->Rkkt));
-    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->Rkkt, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
+    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->Rkkt, pb->contact.nnormal < pb->contact.R.n ? pb->contact.partner : NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
     PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
   }
   *t_assembly = M2dWallTime() - *t_assembly;
@@ -193,6 +239,10 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
   }
   PetscCall(PetscFree(pb->drows));
   PetscCall(PetscFree(pb->warm));
+  if (pb->ncase) {
+    PetscCall(VecDestroyVecs(pb->ncase, &pb->fcase));
+    PetscCall(VecDestroyVecs(pb->ncase, &pb->ubccase));
+  }
   PetscCall(M2dFramesDestroy(&pb->frames));
   PetscCall(VecDestroy(&pb->ubc));
   PetscCall(VecDestroy(&pb->f));

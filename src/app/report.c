@@ -41,6 +41,10 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryReal(sum, "", "strain_max", v->strain_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
+  if (sol->slip) {
+    SummaryReal(sum, "", "coulomb", v->coulomb);
+    SummaryReal(sum, "", "coulomb_tol", M2D_VERIFY_TOL);
+  }
   /* every figure is in the units of the input (the internal scaling, units.h, never shows) */
   SummaryString(sum, "units", "length", "the mesh's coordinates x -mesh_scale");
   SummaryString(sum, "units", "stress", "the moduli's and the loads'");
@@ -76,6 +80,92 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, M2dFigures *fig
   }
   PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz%s%s: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", pb->s.npair > 1 ? " " : "", pb->s.npair > 1 ? pb->s.pair[k].nm : "", (double)(h.a * un->L), (double)(h.half_width * un->L), (double)(h.h_edge * un->L), (double)(h.p0 * un->S),
                         (double)(h.peak_pressure * un->S), (double)h.pressure_l2_rel));
+  if (pb->s.cattaneo && pb->contact.pair[k].mu > 0) {
+    M2dCattaneoResult cm;
+    const char       *keys[4] = {"stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel"};
+    PetscReal         vals[4];
+    PetscCall(ContactCattaneo(&pb->contact.pair[k], &pb->s, &h, &cm));
+    vals[0] = cm.c * un->L, vals[1] = cm.c_exact * un->L, vals[2] = cm.shear_l2_rel, vals[3] = cm.shear_odd_rel;
+    for (int q = 0; q < 4; q++) {
+      if (k == 0) SummaryReal(sum, "", keys[q], vals[q]);
+      if (pb->s.npair > 1) PetscCall(M2dSummaryListReal(sum, "pairs", k, keys[q], vals[q]));
+    }
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Cattaneo-Mindlin%s%s: stick zone c = %.6g (computed %.6g), L2 error of the shear traction on [-1.5a, 1.5a]: %.4e (its even part; the odd part %.4e of it)\n", pb->s.npair > 1 ? " " : "", pb->s.npair > 1 ? pb->s.pair[k].nm : "", (double)vals[1], (double)vals[0], (double)vals[2], (double)vals[3]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* friction: the tangential force and the stick and slip counts of each pair
+ * (user units), the first pair's at the top level */
+static PetscErrorCode SummarizeFriction(const M2dProblem *pb, M2dSummary *sum)
+{
+  const M2dContact *c = &pb->contact;
+  PetscInt          nst = 0, nsl = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < c->npair; k++) {
+    const M2dContactPair *p = &c->pair[k];
+    nst += p->nstick, nsl += p->nslip;
+    if (c->npair > 1) {
+      PetscCall(M2dSummaryListReal(sum, "pairs", k, "mu", p->mu));
+      PetscCall(M2dSummaryListReal(sum, "pairs", k, "tangential_force", p->force_t));
+      PetscCall(M2dSummaryListInt(sum, "pairs", k, "stick_nodes", p->nstick));
+      PetscCall(M2dSummaryListInt(sum, "pairs", k, "slip_nodes", p->nslip));
+    }
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "friction%s%s: MU = %g, %" PetscInt_FMT " nodes stick, %" PetscInt_FMT " slip; tangential force %.12e, MU x normal force %.12e\n", c->npair > 1 ? " " : "", c->npair > 1 ? p->def->nm : "", (double)p->mu, p->nstick, p->nslip, (double)p->force_t, (double)(p->mu * p->force_n)));
+  }
+  SummaryReal(sum, "", "mu", c->pair[0].mu);
+  SummaryReal(sum, "", "tangential_force", c->pair[0].force_t);
+  SummaryInt(sum, "", "stick_nodes", nst);
+  SummaryInt(sum, "", "slip_nodes", nsl);
+  PetscFunctionReturn(0);
+}
+
+/* a load history: each step's load, active-set steps, and per pair the
+ * normal and tangential forces and the nodes that stick, slip, are open
+ * (user units); leaves the interface results of the last step in pb->contact */
+static PetscErrorCode SummarizeSteps(M2dProblem *pb, const M2dSolution *sol, M2dSummary *sum)
+{
+  M2dContact *c  = &pb->contact;
+  PetscInt    np = c->npair;
+  PetscReal  *v, F = pb->units.S * pb->units.L;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(np + 1, &v));
+  PetscCall(PetscPrintf(comm, "load steps: step, stage, time, active-set steps, then per pair: normal force, tangential force, stick, slip, open nodes\n"));
+  for (PetscInt k = 0; k < sol->nstep; k++) {
+    M2dLoadStep *ls = &sol->steps[k];
+    PetscCall(ContactResults(c, pb->kkt.C, ls->r, ls->u, ls->lam, ls->active, ls->slip));
+    PetscCall(PetscFree(ls->nodes));
+    PetscCall(PetscMalloc1(M2D_STEP_NODE_FIELDS * c->nnormal + 1, &ls->nodes));
+    for (PetscInt j = 0; j < c->nnormal; j++) { /* for the fields' series (ReportWriteFields), in the user's units */
+      PetscReal *o = &ls->nodes[M2D_STEP_NODE_FIELDS * j];
+      o[0] = c->pressure[j] * pb->units.S, o[1] = c->gap[j] * pb->units.U, o[2] = c->active[j];
+      o[3] = c->traction[j] * pb->units.S, o[4] = c->slip[j] * pb->units.U, o[5] = c->slip_inc[j] * pb->units.U, o[6] = c->status[j];
+    }
+    PetscCall(M2dSummaryListInt(sum, "load_steps", k, "step", k + 1));
+    PetscCall(M2dSummaryListInt(sum, "load_steps", k, "stage", ls->stage + 1));
+    PetscCall(M2dSummaryListReal(sum, "load_steps", k, "time", ls->time));
+    PetscCall(M2dSummaryListInt(sum, "load_steps", k, "iterations", ls->iterations));
+    PetscCall(PetscPrintf(comm, "  %3" PetscInt_FMT " %2" PetscInt_FMT " %8.4f %3" PetscInt_FMT, k + 1, ls->stage + 1, (double)ls->time, ls->iterations));
+    for (PetscInt q = 0; q < np; q++) {
+      const M2dContactPair *p = &c->pair[q];
+      PetscCall(PetscPrintf(comm, "  | %.6e %.6e %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT, (double)(p->force_n * F), (double)(p->force_t * F), p->nstick, p->nslip, p->R.n - p->nstick - p->nslip));
+    }
+    PetscCall(PetscPrintf(comm, "\n"));
+    for (PetscInt q = 0; q < np; q++) v[q] = c->pair[q].force_n * F;
+    PetscCall(M2dSummaryListArray(sum, "load_steps", k, "normal_force", np, v));
+    for (PetscInt q = 0; q < np; q++) v[q] = c->pair[q].force_t * F;
+    PetscCall(M2dSummaryListArray(sum, "load_steps", k, "tangential_force", np, v));
+    for (PetscInt q = 0; q < np; q++) v[q] = (PetscReal)c->pair[q].nstick;
+    PetscCall(M2dSummaryListArray(sum, "load_steps", k, "stick_nodes", np, v));
+    for (PetscInt q = 0; q < np; q++) v[q] = (PetscReal)c->pair[q].nslip;
+    PetscCall(M2dSummaryListArray(sum, "load_steps", k, "slip_nodes", np, v));
+    for (PetscInt q = 0; q < np; q++) v[q] = (PetscReal)(c->pair[q].R.n - c->pair[q].nstick - c->pair[q].nslip);
+    PetscCall(M2dSummaryListArray(sum, "load_steps", k, "open_nodes", np, v));
+  }
+  PetscCall(PetscFree(v));
   PetscFunctionReturn(0);
 }
 
@@ -112,10 +202,12 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   PetscReal       na;
 
   PetscFunctionBeginUser;
+  if (sol->nstep > 1) PetscCall(SummarizeSteps(pb, sol, sum));
   for (PetscInt k = 0; k < c->npair && pb->s.hertz; k++) PetscCall(SummarizeHertz(pb, k, fig, sum));
   PetscCall(ContactToUserUnits(c, &pb->units));
+  if (sol->slip) PetscCall(SummarizeFriction(pb, sum));
   SummaryString(sum, "", "method", M2dMethodOf(c0->method, c0->basis)->family);
-  SummaryInt(sum, "", "contact_nodes", c->R.n);
+  SummaryInt(sum, "", "contact_nodes", c->nnormal);
   SummaryReal(sum, "", "contact_force", c0->force_n);
   SummaryReal(sum, "", "contact_force_x", c0->force[0]);
   SummaryReal(sum, "", "contact_force_y", c0->force[1]);
@@ -127,7 +219,8 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   if (c->npair > 1) PetscCall(SummarizePairs(pb, sum));
   SummaryString(sum, "", "contact_solver", sol->path == M2D_PATH_TIED ? "tied" : sol->as.vi ? "vinewtonrsls" : "pdas");
   if (sol->path != M2D_PATH_TIED) SummaryInt(sum, "", "iterations", sol->as.iterations);
-  PetscCall(VecSum(sol->active, &na));
+  na = 0;
+  for (PetscInt j = 0; j < c->nnormal; j++) na += c->active[j] != 0;
   fig->active_nodes = (PetscInt)(na + 0.5);
   SummaryInt(sum, "", "active_nodes", fig->active_nodes);
   PetscCall(ContactRipple(c, &fig->pressure_ripple, &fig->ripple_nodes));
@@ -145,10 +238,11 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
 }
 
 /* -exact uniform: max over cells of the stress error / p (reference units:
- * relative), in the frame x' = R(-exact_angle) x where sigma_y'y' = -p */
+ * relative), in the frame x' = R(-exact_angle) x where sigma_y'y' = -p and
+ * sigma_x'y' = tau (-exact_tau) */
 static PetscErrorCode SummarizeUniform(const M2dProblem *pb, const PetscReal *stress, M2dSummary *sum)
 {
-  PetscReal p = pb->s.exact_p, e[3] = {0, 0, 0}, th = pb->s.exact_angle * PETSC_PI / 180, c = PetscCosReal(th), sn = PetscSinReal(th);
+  PetscReal p = pb->s.exact_p, tau = pb->s.exact_tau, e[3] = {0, 0, 0}, th = pb->s.exact_angle * PETSC_PI / 180, c = PetscCosReal(th), sn = PetscSinReal(th);
   PetscInt  nlc = pb->mesh.cEnd - pb->mesh.cStart;
 
   PetscFunctionBeginUser;
@@ -157,13 +251,13 @@ static PetscErrorCode SummarizeUniform(const M2dProblem *pb, const PetscReal *st
     PetscReal        rx = c * c * sx + sn * sn * sy + 2 * sn * c * sxy, ry = sn * sn * sx + c * c * sy - 2 * sn * c * sxy, rxy = sn * c * (sy - sx) + (c * c - sn * sn) * sxy;
     e[0] = PetscMax(e[0], PetscAbsReal(ry + p) / PetscAbsReal(p));
     e[1] = PetscMax(e[1], PetscAbsReal(rx) / PetscAbsReal(p));
-    e[2] = PetscMax(e[2], PetscAbsReal(rxy) / PetscAbsReal(p));
+    e[2] = PetscMax(e[2], PetscAbsReal(rxy - tau) / PetscAbsReal(p));
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, e, 3, MPIU_REAL, MPIU_MAX, PetscObjectComm((PetscObject)pb->mesh.dm)));
   SummaryReal(sum, "error", "sigma_yy_max_rel", e[0]);
   SummaryReal(sum, "error", "sigma_xx_max_rel", e[1]);
   SummaryReal(sum, "error", "sigma_xy_max_rel", e[2]);
-  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "uniform stress check: max |sigma_yy + p|/p = %.3e, max |sigma_xx|/p = %.3e, max |sigma_xy|/p = %.3e\n", (double)e[0], (double)e[1], (double)e[2]));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "uniform stress check: max |sigma_yy + p|/p = %.3e, max |sigma_xx|/p = %.3e, max |sigma_xy - tau|/p = %.3e\n", (double)e[0], (double)e[1], (double)e[2]));
   PetscFunctionReturn(0);
 }
 
@@ -367,57 +461,152 @@ static PetscErrorCode NodalFields(const M2dProblem *pb, const PetscReal sv[], Pe
 }
 
 /* rank 0: the contact CSV into the run's files */
-static PetscErrorCode WriteCSV(const M2dProblem *pb, M2dOutput *o)
+static PetscErrorCode WriteCSV(const M2dProblem *pb, const M2dSolution *sol, M2dOutput *o)
 {
-  PetscErrorCode ierr = 0;
-  char           err[1024] = "";
-  FILE          *fp;
+  PetscErrorCode   ierr = 0;
+  char             err[1024] = "";
+  FILE            *fp;
+  const PetscReal *nodes[1] = {NULL}, **steps = nodes;
 
   PetscFunctionBeginUser;
   if (o->rank == 0) {
+    if (sol->nstep > 1) { /* every step's rows, a step column first */
+      PetscCall(PetscMalloc1(sol->nstep, &steps));
+      for (PetscInt k = 0; k < sol->nstep; k++) steps[k] = sol->steps[k].nodes;
+    }
     ierr = OutputFile(o, "_contact.csv", &fp);
-    if (!ierr) ierr = ContactWriteCSV(&pb->contact, o->paths->run_id, fp);
+    if (!ierr) ierr = ContactWriteCSV(&pb->contact, sol->nstep > 1 ? sol->nstep : 0, steps, o->paths->run_id, fp);
+    if (sol->nstep > 1) PetscCall(PetscFree(steps));
     if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
   }
   PetscCall(M2dCheckCollective(o->comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
 }
 
+/* the point fields of the interface (contact.h) on vectors like u: pressure
+ * and gap, active, and with friction the traction and slip, the slip
+ * increment and status; v[0..3] created here */
+static PetscErrorCode InterfaceFields(const M2dContact *c, Vec u, PetscBool friction, Vec v[4], M2dFieldSet *fs)
+{
+  PetscFunctionBeginUser;
+  for (int k = 0; k < (friction ? 4 : 2); k++) PetscCall(VecDuplicate(u, &v[k]));
+  PetscCall(ContactFillField(c, v[0], v[1]));
+  fs->point[fs->npoint++] = (M2dPointField){"contact_pressure", v[0], PETSC_FALSE, 0, NULL, 0};
+  fs->point[fs->npoint++] = (M2dPointField){"gap", v[0], PETSC_FALSE, 1, NULL, 0};
+  fs->point[fs->npoint++] = (M2dPointField){"active", v[1], PETSC_FALSE, 0, NULL, 0};
+  if (!friction) PetscFunctionReturn(0);
+  PetscCall(ContactFillFriction(c, v[2], v[3]));
+  fs->point[fs->npoint++] = (M2dPointField){"traction_t", v[2], PETSC_FALSE, 0, NULL, 0};
+  fs->point[fs->npoint++] = (M2dPointField){"slip", v[2], PETSC_FALSE, 1, NULL, 0};
+  fs->point[fs->npoint++] = (M2dPointField){"slip_increment", v[3], PETSC_FALSE, 0, NULL, 0};
+  fs->point[fs->npoint++] = (M2dPointField){"contact_status", v[3], PETSC_FALSE, 1, NULL, 0};
+  PetscFunctionReturn(0);
+}
+
+static const char *cname[M2D_CELL_FIELDS] = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+
+/* What one earlier load step shows (its displacement, interface and cell
+ * stresses), for the series: made into st (its own vectors and arrays; the
+ * interface's results are borrowed while it is written) */
+typedef struct {
+  M2dFieldSet fs;
+  Vec         u, v[4];
+  PetscReal  *cells;
+} StepFields;
+
+static PetscErrorCode StepFieldsCreate(M2dProblem *pb, const M2dLoadStep *ls, PetscBool friction, StepFields *sf)
+{
+  M2dContact *c = &pb->contact;
+  PetscReal  *keep[7] = {c->pressure, c->gap, c->active, c->traction, c->slip, c->slip_inc, c->status}, *arr;
+  PetscInt    nn = c->nnormal;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(sf, sizeof(*sf)));
+  PetscCall(VecDuplicate(ls->u, &sf->u));
+  PetscCall(VecCopy(ls->u, sf->u));
+  PetscCall(M2dFramesRotateGlobal(&pb->frames, &pb->mesh, sf->u, PETSC_TRUE));
+  PetscCall(CellFields(pb, sf->u, pb->units.S, &sf->cells));
+  PetscCall(VecScale(sf->u, pb->units.U));
+  sf->fs.point[sf->fs.npoint++] = (M2dPointField){"displacement", sf->u, PETSC_TRUE, 0, NULL, 0};
+  if (pb->has_contact) { /* the step's interface in place of the final one's while the fields are made */
+    PetscCall(PetscMalloc1(7 * nn + 1, &arr));
+    for (int f = 0; f < 7; f++) {
+      PetscReal *a = arr + f * nn;
+      for (PetscInt j = 0; j < nn; j++) a[j] = ls->nodes[M2D_STEP_NODE_FIELDS * j + f];
+      if (f == 0) c->pressure = a;
+      else if (f == 1) c->gap = a;
+      else if (f == 2) c->active = a;
+      else if (f == 3) c->traction = a;
+      else if (f == 4) c->slip = a;
+      else if (f == 5) c->slip_inc = a;
+      else c->status = a;
+    }
+    for (PetscInt q = 0; q < c->npair; q++) {
+      M2dContactPair *p = &c->pair[q];
+      p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
+      p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
+    }
+    PetscCall(InterfaceFields(c, sf->u, friction, sf->v, &sf->fs));
+    c->pressure = keep[0], c->gap = keep[1], c->active = keep[2], c->traction = keep[3], c->slip = keep[4], c->slip_inc = keep[5], c->status = keep[6];
+    for (PetscInt q = 0; q < c->npair; q++) {
+      M2dContactPair *p = &c->pair[q];
+      p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
+      p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
+    }
+    PetscCall(PetscFree(arr));
+  }
+  for (int k = 0; k < M2D_CELL_FIELDS; k++) sf->fs.cell[sf->fs.ncell++] = (M2dCellField){cname[k], sf->cells, M2D_CELL_FIELDS, k};
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode StepFieldsDestroy(StepFields *sf)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&sf->u));
+  for (int k = 0; k < 4; k++) PetscCall(VecDestroy(&sf->v[k]));
+  PetscCall(PetscFree(sf->cells));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutput *o)
 {
-  PetscReal  *cells, *nodal = NULL;
-  Vec         u, cfield = NULL, afield = NULL;
-  M2dFieldSet fs;
-  const char *cname[M2D_CELL_FIELDS]  = {"sigma_x", "sigma_y", "sigma_z", "sigma_xy", "von_mises", "body"};
+  PetscReal  *cells, *nodal = NULL, *times = NULL;
+  Vec         u, v[4] = {NULL, NULL, NULL, NULL};
+  M2dFieldSet fs, *steps = NULL;
+  StepFields *sf    = NULL;
+  M2dSeries   se    = {0, NULL, NULL};
+  PetscBool   friction = (PetscBool)(sol->slip != NULL);
+  PetscInt    ns = sol->nstep > 1 && o->paths->h5 ? sol->nstep - 1 : 0; /* the last one is the final state */
   const char *nname[M2D_NODAL_FIELDS] = {"sigma_x_nodal", "sigma_y_nodal", "sigma_z_nodal", "sigma_xy_nodal", "von_mises_nodal"};
 
   PetscFunctionBeginUser;
-  if (pb->has_contact && o->paths->csv) PetscCall(WriteCSV(pb, o));
+  if (pb->has_contact && o->paths->csv) PetscCall(WriteCSV(pb, sol, o));
   if (!o->paths->vtu && !o->paths->h5) PetscFunctionReturn(0);
   PetscCall(CellFields(pb, sol->u, pb->units.S, &cells));
   if (sol->sv) PetscCall(NodalFields(pb, sol->sv, &nodal));
   PetscCall(VecDuplicate(sol->u, &u));
   PetscCall(VecAXPY(u, pb->units.U, sol->u));
+  PetscCall(PetscCalloc3(ns + 1, &sf, ns + 1, &steps, ns + 1, &times));
+  for (PetscInt k = 0; k < ns; k++) { /* before the mesh is scaled: the stresses of the reference units */
+    PetscCall(StepFieldsCreate(pb, &sol->steps[k], friction, &sf[k]));
+    steps[k] = sf[k].fs;
+    times[k] = sol->steps[k].time;
+  }
+  se.n = ns, se.time = times, se.step = steps;
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, pb->units.L)); /* the files hold the user's coordinates */
   PetscCall(PetscMemzero(&fs, sizeof(fs)));
   fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0, NULL, 0};
-  if (pb->has_contact) {
-    PetscCall(VecDuplicate(u, &cfield));
-    PetscCall(VecDuplicate(u, &afield));
-    PetscCall(ContactFillField(&pb->contact, cfield, afield));
-    fs.point[fs.npoint++] = (M2dPointField){"contact_pressure", cfield, PETSC_FALSE, 0, NULL, 0};
-    fs.point[fs.npoint++] = (M2dPointField){"gap", cfield, PETSC_FALSE, 1, NULL, 0};
-    fs.point[fs.npoint++] = (M2dPointField){"active", afield, PETSC_FALSE, 0, NULL, 0};
-  }
+  if (pb->has_contact) PetscCall(InterfaceFields(&pb->contact, u, friction, v, &fs));
   for (int k = 0; nodal && k < M2D_NODAL_FIELDS; k++) fs.point[fs.npoint++] = (M2dPointField){nname[k], NULL, PETSC_FALSE, k, nodal, M2D_NODAL_FIELDS};
   for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
   if (sol->eta) {
     const char *ename[M2D_ETA_FIELDS] = {"error_indicator", "error_indicator_volume", "size_factor"};
     for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
-  PetscCall(OutputWriteFields(&pb->mesh, o, &fs));
-  PetscCall(VecDestroy(&afield));
-  PetscCall(VecDestroy(&cfield));
+  PetscCall(OutputWriteFields(&pb->mesh, o, &fs, ns ? &se : NULL, sol->nstep > 1 ? sol->steps[sol->nstep - 1].time : -1));
+  for (PetscInt k = 0; k < ns; k++) PetscCall(StepFieldsDestroy(&sf[k]));
+  PetscCall(PetscFree3(sf, steps, times));
+  for (int k = 0; k < 4; k++) PetscCall(VecDestroy(&v[k]));
   PetscCall(VecDestroy(&u));
   PetscCall(PetscFree(nodal));
   PetscCall(PetscFree(cells));

@@ -73,7 +73,7 @@ static const EntryForm entry_forms[ENTRY_KINDS] = {
 /* entry split by its form: GROUP into group, the word (if the form has one)
  * into word, the numbers into v[0..*nv); *nv = -1, and the error kept
  * (options.h), when the number of fields is wrong */
-static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char group[M2D_NAME_LEN], char word[M2D_NAME_LEN], PetscReal v[], int *nv)
+static PetscErrorCode ParseEntry(const EntryForm *ef, const char *opt, const char *entry, char group[M2D_NAME_LEN], char word[M2D_NAME_LEN], PetscReal v[], int *nv)
 {
   char *f[5], *buf;
   int   nf;
@@ -82,29 +82,29 @@ static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char gr
   PetscCall(PetscStrallocpy(entry, &buf));
   nf  = Split(buf, f, 4);
   *nv = -1;
-  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
-  else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", ef->opt, entry, M2D_NAME_LEN - 1));
+  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", opt, entry, ef->form));
+  else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", opt, entry, M2D_NAME_LEN - 1));
   else {
     PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
     if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
     *nv = nf - 1 - ef->words;
     for (int k = 0; k < *nv; k++) {
       v[k] = 0;
-      PetscCall(ParseReal(ef->opt, entry, f[1 + ef->words + k], &v[k]));
+      PetscCall(ParseReal(opt, entry, f[1 + ef->words + k], &v[k]));
     }
   }
   PetscCall(PetscFree(buf));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
+static PetscErrorCode ParseDirichlet(const char *opt, const char *entry, M2dDirichlet *bc)
 {
   char      comp[M2D_NAME_LEN];
   PetscReal v[1];
   int       nv;
 
   PetscFunctionBeginUser;
-  PetscCall(ParseEntry(&entry_forms[ENTRY_DIRICHLET], entry, bc->group, comp, v, &nv));
+  PetscCall(ParseEntry(&entry_forms[ENTRY_DIRICHLET], opt, entry, bc->group, comp, v, &nv));
   if (nv < 0) PetscFunctionReturn(0);
   bc->frame = M2D_BC_XY;
   if (!strcmp(comp, "x")) bc->comp[0] = PETSC_TRUE;
@@ -112,19 +112,19 @@ static PetscErrorCode ParseDirichlet(const char *entry, M2dDirichlet *bc)
   else if (!strcmp(comp, "xy")) bc->comp[0] = bc->comp[1] = PETSC_TRUE;
   else if (!strcmp(comp, "n")) bc->frame = M2D_BC_NORMAL;
   else if (!strcmp(comp, "t")) bc->frame = M2D_BC_TANGENT;
-  else PetscCall(M2dOptionsDefer("option -dirichlet: unknown component '%s' in '%s' (x, y, xy, n or t)", comp, entry));
+  else PetscCall(M2dOptionsDefer("option %s: unknown component '%s' in '%s' (x, y, xy, n or t)", opt, comp, entry));
   if (nv == 1) bc->value[0] = bc->value[1] = v[0];
   PetscFunctionReturn(0);
 }
 
 /* a -pressure (P[:GX:GY]) or -traction (TX:TY) entry */
-static PetscErrorCode ParseEdgeLoad(int kind, const char *entry, M2dEdgeLoad *l)
+static PetscErrorCode ParseEdgeLoad(int kind, const char *opt, const char *entry, M2dEdgeLoad *l)
 {
   PetscReal v[3];
   int       nv;
 
   PetscFunctionBeginUser;
-  PetscCall(ParseEntry(&entry_forms[kind], entry, l->group, NULL, v, &nv));
+  PetscCall(ParseEntry(&entry_forms[kind], opt, entry, l->group, NULL, v, &nv));
   if (nv < 0) PetscFunctionReturn(0);
   if (kind == ENTRY_TRACTION) {
     l->t[0] = v[0];
@@ -190,49 +190,124 @@ static PetscErrorCode ReadModel(PetscOptionItems *PetscOptionsObject, M2dScene *
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+/* the loads and supports of stage `stage` (0: the scene's -dirichlet,
+ * -pressure, -traction; k: -stage<k+1>_..., the block's prefix `pre`) */
+static PetscErrorCode ReadBoundaryConditions(PetscOptionItems *PetscOptionsObject, const char *pre, PetscInt stage, M2dScene *s)
 {
-  char    *list[ENTRY_KINDS][M2D_MAX_BC];
+  char    *list[ENTRY_KINDS][M2D_MAX_BC], opt[ENTRY_KINDS][64];
   PetscInt n[ENTRY_KINDS];
 
   PetscFunctionBeginUser;
-  for (int k = 0; k < ENTRY_KINDS; k++) PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, entry_forms[k].help, M2D_MAX_BC, 0, list[k], &n[k]));
-  for (PetscInt i = 0; i < n[ENTRY_DIRICHLET]; i++) PetscCall(ParseDirichlet(list[ENTRY_DIRICHLET][i], &s->dir[s->ndir++]));
-  if (n[ENTRY_PRESSURE] + n[ENTRY_TRACTION] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options -pressure and -traction: at most %d loads", M2D_MAX_BC));
+  const char *stage_help[ENTRY_KINDS] = {"a support's value changed by VALUE, GROUP:x|y|xy|n|t:VALUE (held by -dirichlet); default: none", "pressure added, GROUP:P[:GX:GY]; default: none", "traction added, GROUP:TX:TY; default: none"};
+
+  for (int k = 0; k < ENTRY_KINDS; k++) {
+    PetscCall(PetscSNPrintf(opt[k], sizeof(opt[k]), "-%s%s", pre ? pre : "", entry_forms[k].opt + 1));
+    PetscCall(M2dOptionsStringArray(PetscOptionsObject, entry_forms[k].opt, stage ? stage_help[k] : entry_forms[k].help, M2D_MAX_BC, 0, list[k], &n[k]));
+  }
+  if (s->ndir + n[ENTRY_DIRICHLET] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("option %s: at most %d supports and changes of supports in all stages", opt[ENTRY_DIRICHLET], M2D_MAX_BC));
+  for (PetscInt i = 0; i < n[ENTRY_DIRICHLET] && s->ndir < M2D_MAX_BC; i++) {
+    s->dir[s->ndir].stage = stage;
+    PetscCall(ParseDirichlet(opt[ENTRY_DIRICHLET], list[ENTRY_DIRICHLET][i], &s->dir[s->ndir++]));
+  }
+  if (s->nload + n[ENTRY_PRESSURE] + n[ENTRY_TRACTION] > M2D_MAX_BC) PetscCall(M2dOptionsDefer("options %s and %s: at most %d loads in all stages", opt[ENTRY_PRESSURE], opt[ENTRY_TRACTION], M2D_MAX_BC));
   for (int k = ENTRY_PRESSURE; k <= ENTRY_TRACTION; k++)
-    for (PetscInt i = 0; i < n[k] && s->nload < M2D_MAX_BC; i++) PetscCall(ParseEdgeLoad(k, list[k][i], &s->load[s->nload++]));
+    for (PetscInt i = 0; i < n[k] && s->nload < M2D_MAX_BC; i++) {
+      s->load[s->nload].stage = stage;
+      PetscCall(ParseEdgeLoad(k, opt[k], list[k][i], &s->load[s->nload++]));
+    }
   for (int k = 0; k < ENTRY_KINDS; k++)
     for (PetscInt i = 0; i < n[k]; i++) PetscCall(PetscFree(list[k][i]));
   PetscFunctionReturn(0);
 }
 
-/* one -contact_pairs entry NM:M[:standard|dual|nts] into s->pair[k] (form
- * errors deferred: options.h) */
+/* the load history: -load_steps, -load_stages, and each later stage's loads,
+ * support values and steps under the prefix stage<k>_ (PETSc's manner) */
+static PetscErrorCode ReadLoadHistory(MPI_Comm comm, M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, NULL, "mortar2d: load history", "");
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-load_steps", "quasi-static steps to the scene's loads and support values (friction depends on the path), >= 1", s->stage_steps[0], &s->stage_steps[0], NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-load_stages", "load stages: the scene's loads, then each -stageK_ stage's added to what is held, 1 to 16", s->nstage, &s->nstage, NULL));
+  PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
+  PetscCheck(s->nstage >= 1 && s->nstage <= M2D_MAX_STAGES, comm, PETSC_ERR_USER_INPUT, "option -load_stages: %" PetscInt_FMT " must be in [1, %d]", s->nstage, M2D_MAX_STAGES);
+  /* -help documents stage 2's options even when there is one stage */
+  for (PetscInt k = 1; k < PetscMax(s->nstage, s->help ? 2 : 1); k++) {
+    char pre[32], title[96];
+    PetscCall(PetscSNPrintf(pre, sizeof(pre), "stage%d_", (int)k + 1));
+    PetscCall(PetscSNPrintf(title, sizeof(title), "mortar2d: load stage %d", (int)k + 1));
+    s->stage_steps[k] = 1;
+    PetscOptionsBegin(comm, pre, title, "");
+    PetscCall(ReadBoundaryConditions(PetscOptionsObject, pre, k, s));
+    PetscCall(M2dOptionsInt(PetscOptionsObject, "-steps", "quasi-static steps of this stage, >= 1", s->stage_steps[k], &s->stage_steps[k], NULL));
+    PetscOptionsEnd();
+    PetscCall(M2dOptionsRaise(comm));
+  }
+  for (PetscInt k = s->nstage; k < M2D_MAX_STAGES; k++) { /* the program's names: beyond -load_stages they have no effect (CheckEffect) */
+    const char *what[] = {"pressure", "traction", "dirichlet", "steps"};
+    for (int w = 0; w < 4; w++) {
+      char name[64];
+      PetscCall(PetscSNPrintf(name, sizeof(name), "-stage%d_%s", (int)k + 1, what[w]));
+      PetscCall(M2dOptionsKnow(name));
+    }
+  }
+  for (PetscInt k = 0; k < s->nstage; k++) {
+    char name[32] = "-load_steps";
+    if (k) PetscCall(PetscSNPrintf(name, sizeof(name), "-stage%d_steps", (int)k + 1));
+    PetscCheck(s->stage_steps[k] >= 1, comm, PETSC_ERR_USER_INPUT, "option %s: %" PetscInt_FMT " must be >= 1", name, s->stage_steps[k]);
+  }
+  if (s->help) { /* stage 2 may have been read only to be documented */
+    while (s->nload > 0 && s->load[s->nload - 1].stage >= s->nstage) s->nload--;
+    while (s->ndir > 0 && s->dir[s->ndir - 1].stage >= s->nstage) s->ndir--;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the friction coefficient in text: a finite number >= 0 (form errors deferred: options.h) */
+static PetscErrorCode ParseMu(const char *opt, const char *entry, const char *text, PetscReal *mu)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ParseReal(opt, entry, text, mu));
+  if (!(*mu >= 0)) PetscCall(M2dOptionsDefer("option %s: friction coefficient %s in '%s' must be >= 0", opt, text, entry));
+  PetscFunctionReturn(0);
+}
+
+/* one -contact_pairs entry NM:M[:standard|dual|nts][:MU] into s->pair[k]
+ * (form errors deferred: options.h) */
 static PetscErrorCode ParsePair(const char *entry, PetscInt k, M2dScene *s)
 {
   const char *const kinds[] = {"standard", "dual", "nts"};
+  const char *const form    = "NM:M, NM:M:standard|dual|nts, NM:M:MU or NM:M:standard|dual|nts:MU (non-mortar curve:mortar curve[:method][:friction coefficient])";
   M2dPair          *p       = &s->pair[k];
-  const char       *c1 = strchr(entry, ':'), *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
-  size_t            l1 = c1 ? (size_t)(c1 - entry) : 0, l2 = c1 ? (c2 ? (size_t)(c2 - c1 - 1) : strlen(c1 + 1)) : 0;
+  char             *buf, *f[5];
+  int               nf;
 
   PetscFunctionBeginUser;
   s->npair = k + 1;
-  if (!c1 || !l1 || !l2 || l1 >= sizeof(p->nm) || l2 >= sizeof(p->m) || (c2 && strchr(c2 + 1, ':'))) {
-    PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' is not NM:M or NM:M:standard|dual|nts (non-mortar curve:mortar curve)", entry));
+  PetscCall(PetscStrallocpy(entry, &buf));
+  nf = Split(buf, f, 4);
+  if (nf < 2 || nf > 4 || !f[0][0] || !f[1][0] || strlen(f[0]) >= sizeof(p->nm) || strlen(f[1]) >= sizeof(p->m)) {
+    PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' is not %s", entry, form));
+    PetscCall(PetscFree(buf));
     PetscFunctionReturn(0);
   }
-  PetscCall(PetscStrncpy(p->nm, entry, l1 + 1));
-  PetscCall(PetscStrncpy(p->m, c1 + 1, l2 + 1));
-  if (c2) {
+  PetscCall(PetscStrncpy(p->nm, f[0], sizeof(p->nm)));
+  PetscCall(PetscStrncpy(p->m, f[1], sizeof(p->m)));
+  for (int q = 2; q < nf; q++) {
     int i = 0;
-    while (i < 3 && strcasecmp(c2 + 1, kinds[i])) i++;
-    if (i == 3) PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' in '%s' is not standard, dual or nts", c2 + 1, entry));
-    p->own_method = PETSC_TRUE;
-    p->method     = i == 2 ? M2D_CONTACT_NTS : M2D_CONTACT_MORTAR;
-    p->basis      = i == 1 ? 1 : 0; /* MortarBasis: standard, dual */
+    while (i < 3 && strcasecmp(f[q], kinds[i])) i++;
+    if (i < 3 && q == 2) {
+      p->own_method = PETSC_TRUE;
+      p->method     = i == 2 ? M2D_CONTACT_NTS : M2D_CONTACT_MORTAR;
+      p->basis      = i == 1 ? 1 : 0; /* MortarBasis: standard, dual */
+    } else if (q == nf - 1 && (q == 3 || i == 3)) {
+      p->own_mu = PETSC_TRUE;
+      PetscCall(ParseMu("-contact_pairs", entry, f[q], &p->mu));
+    } else PetscCall(M2dOptionsDefer("option -contact_pairs: '%s' in '%s' is not standard, dual or nts (the form: %s)", f[q], entry, form));
   }
   PetscCall(PetscSNPrintf(p->what, sizeof(p->what), "option -contact_pairs, pair %d '%s:%s'", (int)k + 1, p->nm, p->m));
   p->opt_nm = p->opt_m = "-contact_pairs";
+  PetscCall(PetscFree(buf));
   PetscFunctionReturn(0);
 }
 
@@ -246,7 +321,7 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   char    *list[M2D_MAX_PAIRS];
   PetscInt n = 0;
 
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts],... non-mortar:mortar curve[:own method]; default: none", M2D_MAX_PAIRS, 0, list, &n));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts][:MU],... (non-mortar:mortar[:method][:friction]); default: none", M2D_MAX_PAIRS, 0, list, &n));
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(ParsePair(list[i], i, s));
     PetscCall(PetscFree(list[i]));
@@ -259,6 +334,7 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-contact_c", "complementarity parameter c of the active-set test, > 0; auto: E*/h^2", &s->contact_c, &s->contact_c_set));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-contact_initial", "first active set: gap (closed gaps), closest (smallest gaps) or all (every candidate)", init, 3, &s->contact_initial));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-contact_monitor", "print one line per active-set step", s->contact_monitor, &s->contact_monitor));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-contact_friction", "Coulomb friction coefficient MU of the pairs without their own, >= 0; 0: frictionless", s->friction, &s->friction, NULL));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-contact_reach", "search distance of the contact pair, > 0; auto: 0.1 x the mortar surface's extent", &s->reach, &s->reach_set));
   PetscFunctionReturn(0);
 }
@@ -270,11 +346,13 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-exact", "compare with an exact solution: uniform (sigma_yy = -p, the rest 0) or mms", exact, 3, (PetscEnum *)&s->exact));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-exact_p", "-exact uniform: the exact -sigma_yy, > 0; auto: the first -pressure", &s->exact_p, &s->exact_p_set));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_tau", "-exact uniform: the exact sigma_xy (a sheared patch; frame of -exact_angle)", s->exact_tau, &s->exact_tau, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-exact_angle", "-exact uniform: its frame turned by this angle, in degrees", s->exact_angle, &s->exact_angle, NULL));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
+  PetscCall(M2dOptionsBool(PetscOptionsObject, "-cattaneo", "with -hertz and friction: compare the shear traction with Cattaneo-Mindlin", s->cattaneo, &s->cattaneo));
   PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (R1 R2/(R1 + R2)), > 0; or R1,R2 per pair", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
-  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load, > 0; auto: the -pressure's resultant (x2 on a half model), else the contact's", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
@@ -332,6 +410,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   *s = (M2dScene){
     .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
     .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
+    .nstage = 1, .stage_steps = {1},
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
     .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_AUTO, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
@@ -421,6 +500,8 @@ static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
   for (PetscInt k = 0; k < s->npair; k++) {
     M2dPair *p = &s->pair[k];
     if (!p->own_method) p->method = s->method, p->basis = s->basis;
+    if (!p->own_mu) p->mu = s->friction;
+    PetscCheck(p->mu == 0 || s->unilateral, comm, PETSC_ERR_USER_INPUT, "%s: friction coefficient %g on a tied pair (-contact_unilateral false holds its nodes in every direction: there is nothing to slide); drop the friction or the tie", p->own_mu ? p->what : "option -contact_friction", (double)p->mu);
     PetscCheck(strcmp(p->nm, p->m), comm, PETSC_ERR_USER_INPUT, "%s: the curve '%s' is on both sides", p->what, p->nm);
     for (PetscInt i = 0; i < k; i++) {
       const M2dPair *q = &s->pair[i];
@@ -436,16 +517,42 @@ static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
   PetscFunctionReturn(0);
 }
 
+/* a later stage changes the value of a support of the scene, never adds one
+ * (the stiffness is factored once for the whole history): each component of
+ * a -stage<k>_dirichlet entry must be held by a -dirichlet entry of the same
+ * group and kind */
+static PetscErrorCode CheckStageSupports(MPI_Comm comm, const M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < s->ndir; i++) {
+    const M2dDirichlet *d = &s->dir[i];
+    if (!d->stage) continue;
+    for (int c = 0; c < (d->frame == M2D_BC_XY ? 2 : 1); c++) {
+      PetscBool held = PETSC_FALSE;
+      if (d->frame == M2D_BC_XY && !d->comp[c]) continue;
+      for (PetscInt j = 0; j < s->ndir && !held; j++) {
+        const M2dDirichlet *e = &s->dir[j];
+        held = (PetscBool)(!e->stage && e->frame == d->frame && !strcmp(e->group, d->group) && (d->frame != M2D_BC_XY || e->comp[c]));
+      }
+      PetscCheck(held, comm, PETSC_ERR_USER_INPUT, "option -stage%d_dirichlet: '%s' %s is not held by -dirichlet; a stage changes the value of a support of the scene and cannot add one (hold it in -dirichlet with value 0)", (int)d->stage + 1, d->group, d->frame == M2D_BC_NORMAL ? "n" : d->frame == M2D_BC_TANGENT ? "t" : c ? "y" : "x");
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 /* domains, and options that need one another */
 static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
 {
   PetscFunctionBeginUser;
   PetscCheck(s->mesh_scale > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh_scale: %g must be > 0", (double)s->mesh_scale);
   PetscCheck(!s->contact_c_set || s->contact_c > 0, comm, PETSC_ERR_USER_INPUT, "option -contact_c: %g must be > 0 (auto: the automatic value)", (double)s->contact_c);
+  PetscCheck(s->friction >= 0, comm, PETSC_ERR_USER_INPUT, "option -contact_friction: %g must be >= 0", (double)s->friction);
+  PetscCall(CheckStageSupports(comm, s));
   PetscCheck(!s->reach_set || s->reach > 0, comm, PETSC_ERR_USER_INPUT, "option -contact_reach: %g must be > 0 (auto: the automatic value)", (double)s->reach);
   PetscCheck(!s->hertz_load_set || s->hertz_load > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_load: %g must be > 0 (auto: from the first -pressure)", (double)s->hertz_load);
   PetscCheck(!s->exact_p_set || s->exact_p > 0, comm, PETSC_ERR_USER_INPUT, "option -exact_p: %g must be > 0 (auto: the first -pressure)", (double)s->exact_p);
   PetscCheck(s->mms_amplitude != 0, comm, PETSC_ERR_USER_INPUT, "option -mms_amplitude: must not be 0");
+  PetscCheck(s->exact != M2D_EXACT_MMS || s->nstage == 1, comm, PETSC_ERR_USER_INPUT, "option -exact mms: the manufactured solution is one load; drop -load_stages");
   PetscCheck(s->strain_limit > 0, comm, PETSC_ERR_USER_INPUT, "option -strain_limit: %g must be > 0", (double)s->strain_limit);
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
@@ -458,8 +565,8 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
     PetscCheck(s->nload > 0 && s->load[0].is_pressure && s->load[0].p != 0, comm, PETSC_ERR_USER_INPUT, "option -exact uniform: needs -exact_p or a first -pressure load P != 0 (its value is the exact -sigma_yy)");
     s->exact_p = s->load[0].p;
   }
-  PetscCheck(!s->hertz || s->hertz_load_set || (s->nload > 0 && s->load[0].is_pressure), comm, PETSC_ERR_USER_INPUT, "option -hertz: needs -hertz_load or a -pressure load");
   PetscCheck(!s->hertz || s->npair, comm, PETSC_ERR_USER_INPUT, "option -hertz: the scene has no contact pair (-contact_pairs, or -contact_nonmortar and -contact_mortar)");
+  PetscCheck(!s->cattaneo || (s->hertz && SceneHasFriction(s)), comm, PETSC_ERR_USER_INPUT, "option -cattaneo: needs -hertz (a, p0) and friction (-contact_friction)");
   PetscCheck(s->out.name[0] && !strchr(s->out.name, '/'), comm, PETSC_ERR_USER_INPUT, "option -output_name: '%s' must be a plain file name", s->out.name);
   PetscFunctionReturn(0);
 }
@@ -476,13 +583,19 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s)
     mortar = (PetscBool)(mortar || (!s->pair[k].own_method && s->pair[k].method == M2D_CONTACT_MORTAR));
   }
   if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load", "without -hertz"));
-  if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle", "without -exact uniform"));
+  if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle -exact_tau", "without -exact uniform"));
   if (s->exact != M2D_EXACT_MMS) PetscCall(M2dOptionsNoEffect(comm, "-mms_amplitude", "without -exact mms"));
   if (!s->npair) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_pairs, or -contact_nonmortar and -contact_mortar)"));
   else if (own) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis", "when every pair of -contact_pairs names its own method (NM:M:standard|dual|nts)"));
   else if (!mortar) PetscCall(M2dOptionsNoEffect(comm, "-mortar_basis", "with -contact_method nts (node-to-segment rows have no multiplier basis)"));
   if (s->npair && !s->unilateral) PetscCall(M2dOptionsNoEffect(comm, "-contact_c -contact_initial", "with -contact_unilateral false (every candidate node is held closed: no active set)"));
   if (!s->geo[0]) PetscCall(M2dOptionsNoEffect(comm, "-geo_dir", "without -geo"));
+  if (!s->npair) PetscCall(M2dOptionsNoEffect(comm, "-contact_friction", "without a contact pair"));
+  for (PetscInt k = s->nstage; k < M2D_MAX_STAGES; k++) {
+    char names[256];
+    PetscCall(PetscSNPrintf(names, sizeof(names), "-stage%d_pressure -stage%d_traction -stage%d_dirichlet -stage%d_steps", (int)k + 1, (int)k + 1, (int)k + 1, (int)k + 1));
+    PetscCall(M2dOptionsNoEffect(comm, names, "beyond -load_stages %d", (int)s->nstage));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -521,8 +634,10 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(ReadModel(PetscOptionsObject, s));
   PetscOptionsEnd();
   PetscOptionsBegin(comm, NULL, "mortar2d: loads and supports (GROUP: a gmsh physical name)", "");
-  PetscCall(ReadBoundaryConditions(PetscOptionsObject, s));
+  PetscCall(ReadBoundaryConditions(PetscOptionsObject, NULL, 0, s));
   PetscOptionsEnd();
+  PetscCall(M2dOptionsRaise(comm));
+  PetscCall(ReadLoadHistory(comm, s));
   PetscOptionsBegin(comm, NULL, "mortar2d: contact", "");
   PetscCall(ReadContact(PetscOptionsObject, s));
   PetscOptionsEnd();
@@ -610,6 +725,20 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "\n"));
   if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
+}
+
+PetscBool SceneHasFriction(const M2dScene *s)
+{
+  for (PetscInt k = 0; k < s->npair; k++)
+    if (s->pair[k].mu > 0) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+PetscInt SceneLoadSteps(const M2dScene *s)
+{
+  PetscInt n = 0;
+  for (PetscInt k = 0; k < s->nstage; k++) n += s->stage_steps[k];
+  return n;
 }
 
 PetscReal SceneModuliRatio(const M2dScene *s, PetscInt *soft, PetscInt *stiff)

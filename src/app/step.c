@@ -28,7 +28,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   t[M2D_STAGE_SOLVE] = M2dWallTime();
   PetscCall(M2dSolverSolve(&st->pb, path, &st->sol));
   PetscCall(M2dVerifyAnswer(&st->pb, &st->sol, &st->v));
-  if (st->pb.has_contact) PetscCall(ContactResults(&st->pb.contact, &st->pb.kkt, st->sol.u, st->sol.lam, st->sol.active));
+  if (st->pb.has_contact) PetscCall(ContactResults(&st->pb.contact, st->pb.kkt.C, st->pb.kkt.r, st->sol.u, st->sol.lam, st->sol.active, st->sol.slip));
   PetscCall(M2dFramesRotateGlobal(&st->pb.frames, &st->pb.mesh, st->sol.u, PETSC_TRUE)); /* u = T u~ from here on */
   /* a node beyond the automatic reach (a tenth of the mortar surface) that
    * ends inside the other body moved that far: the strain says why (a soft

@@ -127,6 +127,7 @@ void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s)
   for (PetscInt k = 0; k < s->npair; k++) s->pair[k].hertz_radius *= u->U / (u->L * u->L);
   s->hertz_load /= u->S * u->L;
   s->exact_p /= u->S;
+  s->exact_tau /= u->S;
   s->mms_amplitude /= u->U;
   s->mms_wavenumber *= u->L;
 }

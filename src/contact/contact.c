@@ -51,16 +51,22 @@ static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L
   PetscCall(SurfaceGather(m, c->def->m, c->def->opt_m, &c->m));
   c->reach = s->reach;
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  c->mu = c->def->mu;
   if (M2dMethodOf(c->method, c->basis)->segments) {
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
-    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, &c->R));
-  } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
+    PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, PETSC_FALSE, &c->R));
+    if (c->mu > 0) PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, PETSC_TRUE, &c->T));
+  } else {
+    PetscCall(NTSRows(&c->nm, &c->m, c->reach, PETSC_FALSE, &c->R));
+    if (c->mu > 0) PetscCall(NTSRows(&c->nm, &c->m, c->reach, PETSC_TRUE, &c->T));
+  }
   if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));
   PetscCall(PetscPrintf(comm, "contact%s: %s, non-mortar '%s' (%" PetscInt_FMT " edges), mortar '%s' (%" PetscInt_FMT " edges), %" PetscInt_FMT " segments, %" PetscInt_FMT " multipliers, reach %g\n", s->npair > 1 ? " pair" : "", M2dMethodOf(c->method, c->basis)->printed, c->def->nm, c->nm.nedge, c->def->m, c->m.nedge, c->seg.nseg, c->R.n, (double)(L * c->reach)));
   PetscFunctionReturn(0);
 }
 
-/* every pair's rows one after another (one pair: a copy of its rows) */
+/* every pair's normal rows one after another, then the tangential ones (one
+ * frictionless pair: a copy of its rows) */
 static PetscErrorCode MergeRows(M2dContact *c)
 {
   M2dContactRows *R = &c->R;
@@ -68,27 +74,34 @@ static PetscErrorCode MergeRows(M2dContact *c)
 
   PetscFunctionBeginUser;
   R->n = 0;
-  for (PetscInt k = 0; k < c->npair; k++) {
-    c->pair[k].off = R->n;
-    R->n += c->pair[k].R.n;
-    nnz += c->pair[k].R.ptr[c->pair[k].R.n];
-  }
+  for (int t = 0; t < 2; t++)
+    for (PetscInt k = 0; k < c->npair; k++) {
+      const M2dContactRows *P = t ? &c->pair[k].T : &c->pair[k].R;
+      if (t) c->pair[k].toff = R->n;
+      else c->pair[k].off = R->n;
+      R->n += P->n;
+      nnz += P->n ? P->ptr[P->n] : 0;
+    }
+  c->nnormal = c->npair ? c->pair[c->npair - 1].off + c->pair[c->npair - 1].R.n : 0;
   PetscCall(PetscMalloc4(R->n + 1, &R->node, R->n + 1, &R->ptr, R->n + 1, &R->g0, R->n + 1, &R->w));
   PetscCall(PetscMalloc2(nnz + 1, &R->col, nnz + 1, &R->val));
-  PetscCall(PetscMalloc1(R->n + 1, &c->rowpair));
+  PetscCall(PetscMalloc2(R->n + 1, &c->rowpair, R->n + 1, &c->partner));
   R->ptr[0] = 0;
-  for (PetscInt k = 0; k < c->npair; k++) {
-    const M2dContactRows *P = &c->pair[k].R;
-    PetscCall(PetscArraycpy(&R->col[R->ptr[j]], P->col, P->ptr[P->n]));
-    PetscCall(PetscArraycpy(&R->val[R->ptr[j]], P->val, P->ptr[P->n]));
-    for (PetscInt i = 0; i < P->n; i++, j++) {
-      R->node[j]     = P->node[i];
-      R->g0[j]       = P->g0[i];
-      R->w[j]        = P->w[i];
-      R->ptr[j + 1]  = R->ptr[j] + P->ptr[i + 1] - P->ptr[i];
-      c->rowpair[j]  = k;
+  for (int t = 0; t < 2; t++)
+    for (PetscInt k = 0; k < c->npair; k++) {
+      const M2dContactRows *P = t ? &c->pair[k].T : &c->pair[k].R;
+      if (!P->n) continue;
+      PetscCall(PetscArraycpy(&R->col[R->ptr[j]], P->col, P->ptr[P->n]));
+      PetscCall(PetscArraycpy(&R->val[R->ptr[j]], P->val, P->ptr[P->n]));
+      for (PetscInt i = 0; i < P->n; i++, j++) {
+        R->node[j]     = P->node[i];
+        R->g0[j]       = P->g0[i];
+        R->w[j]        = P->w[i];
+        R->ptr[j + 1]  = R->ptr[j] + P->ptr[i + 1] - P->ptr[i];
+        c->rowpair[j]  = k;
+        c->partner[j]  = t ? c->pair[k].off + i : -1;
+      }
     }
-  }
   PetscFunctionReturn(0);
 }
 
@@ -103,18 +116,16 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2
   PetscFunctionReturn(0);
 }
 
-/* force on the non-mortar body: B^T lambda on its dofs (node ids are u_x dofs) */
-static void PairForce(M2dContactPair *c)
+/* add lambda_j times row j of rows R to the force on the non-mortar body (its dofs: the node ids are u_x dofs) */
+static void AddRowForces(M2dContactPair *c, const M2dContactRows *R, const PetscReal lam[])
 {
-  c->force[0] = c->force[1] = c->force_n = 0;
-  for (PetscInt j = 0; j < c->R.n; j++) c->force_n += c->pressure[j] * c->R.w[j];
-  for (PetscInt j = 0; j < c->R.n; j++)
-    for (PetscInt k = c->R.ptr[j]; k < c->R.ptr[j + 1]; k++) {
-      PetscInt col = c->R.col[k], lo = 0, hi = c->nm.nnode - 1, d = col % 2 ? 1 : 0, base = col - d;
+  for (PetscInt j = 0; j < R->n; j++)
+    for (PetscInt k = R->ptr[j]; k < R->ptr[j + 1]; k++) {
+      PetscInt col = R->col[k], lo = 0, hi = c->nm.nnode - 1, d = col % 2 ? 1 : 0, base = col - d;
       while (lo <= hi) { /* c->nm.gdof is sorted */
         PetscInt mid = (lo + hi) / 2;
         if (c->nm.gdof[mid] == base) {
-          c->force[d] += c->pressure[j] * c->R.val[k];
+          c->force[d] += lam[j] * R->val[k];
           break;
         }
         if (c->nm.gdof[mid] < base) lo = mid + 1;
@@ -123,40 +134,69 @@ static void PairForce(M2dContactPair *c)
     }
 }
 
-PetscErrorCode ContactResults(M2dContact *c, const M2dKKT *kkt, Vec u, Vec lam, Vec active)
+/* force on the non-mortar body: B^T lambda on its dofs; the integrals of the
+ * pressure and of the tangential traction; the stick and slip counts */
+static void PairForce(M2dContactPair *c)
 {
-  Vec                gw, from[3], all[3]; /* multipliers, weighted gaps, active flags (NULL: all) */
+  c->force[0] = c->force[1] = c->force_n = c->force_t = 0;
+  c->nstick = c->nslip = 0;
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    c->force_n += c->pressure[j] * c->R.w[j];
+    c->force_t += c->traction[j] * c->R.w[j];
+    c->nstick += c->status[j] == M2D_STATUS_STICK;
+    c->nslip += c->status[j] == M2D_STATUS_SLIP;
+  }
+  AddRowForces(c, &c->R, c->pressure);
+  if (c->T.n) AddRowForces(c, &c->T, c->traction);
+}
+
+PetscErrorCode ContactResults(M2dContact *c, Mat C, Vec r, Vec u, Vec lam, Vec active, Vec slip)
+{
+  Vec                gw, from[4], all[4]; /* multipliers, weighted gaps and slips, active flags (NULL: all), accumulated slips */
   VecScatter         sc;
-  const PetscScalar *a[3];
+  const PetscScalar *a[4];
+  PetscInt           nn = c->nnormal;
 
   PetscFunctionBeginUser;
-  /* weighted gap g~ = r - C u (r carries g~0 and the Dirichlet part) */
-  PetscCall(VecDuplicate(kkt->r, &gw));
-  PetscCall(MatMult(kkt->C, u, gw));
-  PetscCall(VecAYPX(gw, -1.0, kkt->r));
-  from[0] = lam, from[1] = gw, from[2] = active;
+  /* weighted gap g~ = r - C u (r carries g~0 and the Dirichlet part); on a
+   * tangential row the step's weighted slip (kkt.h) */
+  PetscCall(VecDuplicate(r, &gw));
+  PetscCall(MatMult(C, u, gw));
+  PetscCall(VecAYPX(gw, -1.0, r));
+  from[0] = lam, from[1] = gw, from[2] = active, from[3] = slip;
   PetscCall(VecScatterCreateToAll(lam, &sc, &all[0]));
-  for (int k = 0; k < 3; k++) { /* every rank gets every row */
+  for (int k = 0; k < 4; k++) { /* every rank gets every row */
     if (k) PetscCall(VecDuplicate(all[0], &all[k]));
     if (from[k]) {
       PetscCall(VecScatterBegin(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecScatterEnd(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
-    } else PetscCall(VecSet(all[k], 1.0));
+    } else PetscCall(VecSet(all[k], k == 2 ? 1.0 : 0.0));
     PetscCall(VecGetArrayRead(all[k], &a[k]));
   }
   PetscCall(PetscFree3(c->pressure, c->gap, c->active));
-  PetscCall(PetscMalloc3(c->R.n + 1, &c->pressure, c->R.n + 1, &c->gap, c->R.n + 1, &c->active));
-  for (PetscInt j = 0; j < c->R.n; j++) {
+  PetscCall(PetscFree4(c->traction, c->slip, c->slip_inc, c->status));
+  PetscCall(PetscMalloc3(nn + 1, &c->pressure, nn + 1, &c->gap, nn + 1, &c->active));
+  PetscCall(PetscCalloc4(nn + 1, &c->traction, nn + 1, &c->slip, nn + 1, &c->slip_inc, nn + 1, &c->status));
+  for (PetscInt j = 0; j < nn; j++) {
     c->pressure[j] = PetscRealPart(a[0][j]);
     c->gap[j]      = PetscRealPart(a[1][j]) / c->R.w[j];
     c->active[j]   = PetscRealPart(a[2][j]);
+    c->status[j]   = c->active[j] != 0 ? M2D_STATUS_SLIP : M2D_STATUS_OPEN; /* frictionless: a closed node slides */
+  }
+  for (PetscInt j = nn; j < c->R.n; j++) { /* tangential rows: r - C u is the step's weighted slip (kkt.h) */
+    PetscInt i = c->partner[j];
+    c->traction[i] = PetscRealPart(a[0][j]);
+    c->slip_inc[i] = c->active[i] != 0 ? PetscRealPart(a[1][j]) / c->R.w[j] : 0; /* an open node does not slip */
+    c->slip[i]     = PetscRealPart(a[3][j]) / c->R.w[j];
+    if (c->active[i] != 0 && PetscRealPart(a[2][j]) != 0) c->status[i] = M2D_STATUS_STICK;
   }
   for (PetscInt k = 0; k < c->npair; k++) {
     M2dContactPair *p = &c->pair[k];
     p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
+    p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
     PairForce(p);
   }
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 4; k++) {
     PetscCall(VecRestoreArrayRead(all[k], &a[k]));
     PetscCall(VecDestroy(&all[k]));
   }
@@ -172,26 +212,34 @@ static int CmpXY(const void *a, const void *b)
   return (p->y > q->y) - (p->y < q->y);
 }
 
-PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp)
+PetscErrorCode ContactWriteCSV(const M2dContact *c, PetscInt nstep, const PetscReal *const steps[], const char *run_id, FILE *fp)
 {
-  XYIdx *o;
+  XYIdx    *o;
+  PetscBool friction = (PetscBool)(c->R.n > c->nnormal);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(c->R.n + 1, &o));
-  fprintf(fp, "x,y,gap,pressure,weight,active,pair,run_id\n");
-  for (PetscInt q = 0; q < c->npair; q++) {
-    const M2dContactPair *p = &c->pair[q];
-    for (PetscInt j = 0; j < p->R.n; j++) {
-      o[j].x = p->nm.x[2 * p->R.node[j]];
-      o[j].y = p->nm.x[2 * p->R.node[j] + 1];
-      o[j].j = j;
+  PetscCall(PetscMalloc1(c->nnormal + 1, &o));
+  fprintf(fp, "%sx,y,gap,pressure,weight,active,pair,%srun_id\n", nstep ? "step," : "", friction ? "traction_t,slip,slip_increment,status," : "");
+  for (PetscInt k = 0; k < PetscMax(nstep, 1); k++)
+    for (PetscInt q = 0; q < c->npair; q++) {
+      const M2dContactPair *p = &c->pair[q];
+      for (PetscInt j = 0; j < p->R.n; j++) {
+        o[j].x = p->nm.x[2 * p->R.node[j]];
+        o[j].y = p->nm.x[2 * p->R.node[j] + 1];
+        o[j].j = j;
+      }
+      qsort(o, (size_t)p->R.n, sizeof(XYIdx), CmpXY);
+      for (PetscInt i = 0; i < p->R.n; i++) {
+        PetscInt   j = o[i].j;
+        PetscReal  v[7];
+        if (nstep) for (int f = 0; f < 7; f++) v[f] = steps[k][7 * (p->off + j) + f]; /* M2D_STEP_NODE_FIELDS (solver.h) */
+        else v[0] = p->pressure[j], v[1] = p->gap[j], v[2] = p->active[j], v[3] = p->traction[j], v[4] = p->slip[j], v[5] = p->slip_inc[j], v[6] = p->status[j];
+        if (nstep) fprintf(fp, "%d,", (int)k + 1);
+        fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,", (double)o[i].x, (double)o[i].y, (double)v[1], (double)v[0], (double)p->R.w[j], v[2] != 0, (int)q + 1);
+        if (friction) fprintf(fp, "%.17g,%.17g,%.17g,%d,", (double)v[3], (double)v[4], (double)v[5], (int)v[6]);
+        fprintf(fp, "%s\n", run_id);
+      }
     }
-    qsort(o, (size_t)p->R.n, sizeof(XYIdx), CmpXY);
-    for (PetscInt k = 0; k < p->R.n; k++) {
-      PetscInt j = o[k].j;
-      fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%s\n", (double)o[k].x, (double)o[k].y, (double)p->gap[j], (double)p->pressure[j], (double)p->R.w[j], p->active[j] != 0, (int)q + 1, run_id);
-    }
-  }
   PetscCall(PetscFree(o));
   PetscFunctionReturn(0);
 }
@@ -199,11 +247,11 @@ PetscErrorCode ContactWriteCSV(const M2dContact *c, const char *run_id, FILE *fp
 PetscErrorCode ContactStateCreate(const M2dContact *c, M2dContactState *st)
 {
   PetscFunctionBeginUser;
-  st->n     = c->R.n;
+  st->n     = c->nnormal;
   st->npair = c->npair;
   PetscCall(PetscMalloc1(c->npair + 1, &st->off));
   for (PetscInt k = 0; k < c->npair; k++) st->off[k] = c->pair[k].off;
-  st->off[c->npair] = c->R.n;
+  st->off[c->npair] = c->nnormal;
   PetscCall(PetscMalloc4(2 * st->n + 1, &st->xy, st->n + 1, &st->active, st->n + 1, &st->pressure, st->n + 1, &st->gap));
   for (PetscInt j = 0; j < st->n; j++) {
     const M2dSurface *nm = &c->pair[c->rowpair[j]].nm;
@@ -254,10 +302,11 @@ static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal 
       }
 }
 
-/* the mortar surface of one pair: the non-mortar values where its node's
- * nearest point on the chain of multiplier nodes lies, linear between two of
- * them, none (0 and NaN) beyond its ends */
-static PetscErrorCode PairFillMortar(const M2dContactPair *c, Vec field)
+/* the mortar surface of one pair: the non-mortar values v0, v1 (per node of
+ * its rows) where its node's nearest point on the chain of multiplier nodes
+ * lies, linear between two of them (v1 categorical: the nearer one's), none
+ * (field untouched) beyond its ends; into components 0 and 1 of field */
+static PetscErrorCode PairFillMortar(const M2dContactPair *c, const PetscReal v0[], const PetscReal v1[], PetscBool categorical, Vec field)
 {
   XYIdx     *o;
   PetscReal *xy;
@@ -282,10 +331,43 @@ static PetscErrorCode PairFillMortar(const M2dContactPair *c, Vec field)
       PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]);
       t = l2 > 0 ? PetscMin(1, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2) : 0;
     } else if (d2 > PetscSqr(1e-9 * (c->m.hi[0] - c->m.lo[0] + c->m.hi[1] - c->m.lo[1]))) continue; /* beyond the chain */
-    PetscCall(VecSetValue(field, c->m.gdof[i], (1 - t) * c->pressure[k[0]] + (k[1] >= 0 ? t * c->pressure[k[1]] : 0), INSERT_VALUES));
-    PetscCall(VecSetValue(field, c->m.gdof[i] + 1, (1 - t) * c->gap[k[0]] + (k[1] >= 0 ? t * c->gap[k[1]] : 0), INSERT_VALUES));
+    PetscCall(VecSetValue(field, c->m.gdof[i], (1 - t) * v0[k[0]] + (k[1] >= 0 ? t * v0[k[1]] : 0), INSERT_VALUES));
+    if (categorical) PetscCall(VecSetValue(field, c->m.gdof[i] + 1, v1[k[1] >= 0 && t > 0.5 ? k[1] : k[0]], INSERT_VALUES));
+    else PetscCall(VecSetValue(field, c->m.gdof[i] + 1, (1 - t) * v1[k[0]] + (k[1] >= 0 ? t * v1[k[1]] : 0), INSERT_VALUES));
   }
   PetscCall(PetscFree2(o, xy));
+  PetscFunctionReturn(0);
+}
+
+/* a field of two point values per node: (f0, f1) off the interface, then the
+ * pairs' values v0, v1 (offsets of the pairs' nodes in the interface's
+ * arrays) on the mortar surfaces and, after them all, on the non-mortar ones */
+static PetscErrorCode FillPair(const M2dContact *c, const PetscReal *v0, const PetscReal *v1, PetscReal f0, PetscReal f1, PetscBool categorical, Vec field)
+{
+  PetscMPIInt  rank;
+  PetscScalar *a;
+  PetscInt     n;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(field, &n));
+  PetscCall(VecGetArray(field, &a));
+  for (PetscInt i = 0; i < n; i += 2) {
+    a[i]     = f0;
+    a[i + 1] = f1;
+  }
+  PetscCall(VecRestoreArray(field, &a));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
+  for (PetscInt q = 0; q < c->npair && rank == 0; q++) PetscCall(PairFillMortar(&c->pair[q], v0 + c->pair[q].off, v1 + c->pair[q].off, categorical, field));
+  for (PetscInt q = 0; q < c->npair && rank == 0; q++) { /* after every mortar surface: a node on both sides shows its multiplier */
+    const M2dContactPair *p = &c->pair[q];
+    for (PetscInt j = 0; j < p->R.n; j++) {
+      PetscInt g = p->nm.gdof[p->R.node[j]];
+      PetscCall(VecSetValue(field, g, v0[p->off + j], INSERT_VALUES));
+      PetscCall(VecSetValue(field, g + 1, v1[p->off + j], INSERT_VALUES));
+    }
+  }
+  PetscCall(VecAssemblyBegin(field));
+  PetscCall(VecAssemblyEnd(field));
   PetscFunctionReturn(0);
 }
 
@@ -294,34 +376,24 @@ PetscErrorCode ContactFillField(const M2dContact *c, Vec field, Vec active)
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
+  PetscCall(FillPair(c, c->pressure, c->gap, 0, NAN, PETSC_FALSE, field)); /* pressure 0 and gap NaN off the interface */
   PetscCall(VecSet(active, NAN));
-  { /* pressure 0 and gap NaN everywhere, then the interface values */
-    PetscScalar *a;
-    PetscInt     n;
-    PetscCall(VecGetLocalSize(field, &n));
-    PetscCall(VecGetArray(field, &a));
-    for (PetscInt i = 0; i < n; i += 2) {
-      a[i]     = 0;
-      a[i + 1] = NAN;
-    }
-    PetscCall(VecRestoreArray(field, &a));
-  }
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)field), &rank));
-  for (PetscInt q = 0; q < c->npair && rank == 0; q++) PetscCall(PairFillMortar(&c->pair[q], field));
-  for (PetscInt q = 0; q < c->npair && rank == 0; q++) { /* after every mortar surface: a node on both sides shows its multiplier */
+  for (PetscInt q = 0; q < c->npair && rank == 0; q++) {
     const M2dContactPair *p = &c->pair[q];
     for (PetscInt i = 0; i < p->nm.nnode; i++) PetscCall(VecSetValue(active, p->nm.gdof[i], 0.0, INSERT_VALUES));
-    for (PetscInt j = 0; j < p->R.n; j++) {
-      PetscInt g = p->nm.gdof[p->R.node[j]];
-      PetscCall(VecSetValue(field, g, p->pressure[j], INSERT_VALUES));
-      PetscCall(VecSetValue(field, g + 1, p->gap[j], INSERT_VALUES));
-      PetscCall(VecSetValue(active, g, p->active[j] != 0 ? 1.0 : 0.0, INSERT_VALUES));
-    }
+    for (PetscInt j = 0; j < p->R.n; j++) PetscCall(VecSetValue(active, p->nm.gdof[p->R.node[j]], p->active[j] != 0 ? 1.0 : 0.0, INSERT_VALUES));
   }
-  PetscCall(VecAssemblyBegin(field));
-  PetscCall(VecAssemblyEnd(field));
   PetscCall(VecAssemblyBegin(active));
   PetscCall(VecAssemblyEnd(active));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactFillFriction(const M2dContact *c, Vec traction_slip, Vec increment_status)
+{
+  PetscFunctionBeginUser;
+  PetscCall(FillPair(c, c->traction, c->slip, 0, NAN, PETSC_FALSE, traction_slip));
+  PetscCall(FillPair(c, c->slip_inc, c->status, NAN, NAN, PETSC_TRUE, increment_status));
   PetscFunctionReturn(0);
 }
 
@@ -573,17 +645,22 @@ PetscErrorCode ContactPressureEstimate(const M2dContact *c, PetscReal *est)
 PetscErrorCode ContactToUserUnits(M2dContact *c, const M2dUnits *u)
 {
   PetscFunctionBeginUser;
-  for (PetscInt j = 0; j < c->R.n; j++) {
+  for (PetscInt j = 0; j < c->nnormal; j++) {
     c->pressure[j] *= u->S;
     c->gap[j] *= u->U;
-    c->R.w[j] *= u->L;
+    c->traction[j] *= u->S;
+    c->slip[j] *= u->U;
+    c->slip_inc[j] *= u->U;
   }
+  for (PetscInt j = 0; j < c->R.n; j++) c->R.w[j] *= u->L;
   for (PetscInt q = 0; q < c->npair; q++) {
     M2dContactPair *p     = &c->pair[q];
     M2dSurface     *sf[2] = {&p->nm, &p->m};
     for (PetscInt j = 0; j < p->R.n; j++) p->R.w[j] *= u->L;
+    for (PetscInt j = 0; j < p->T.n; j++) p->T.w[j] *= u->L;
     for (int d = 0; d < 2; d++) p->force[d] *= u->S * u->L;
     p->force_n *= u->S * u->L;
+    p->force_t *= u->S * u->L;
     for (int k = 0; k < 2; k++)
       for (PetscInt i = 0; i < 2 * sf[k]->nnode; i++) sf[k]->x[i] *= u->L;
   }
@@ -597,6 +674,7 @@ PetscErrorCode ContactPairDestroy(M2dContactPair *p)
   PetscCall(SurfaceDestroy(&p->m));
   PetscCall(SegmentSetDestroy(&p->seg));
   PetscCall(ContactRowsDestroy(&p->R));
+  PetscCall(ContactRowsDestroy(&p->T));
   PetscFunctionReturn(0);
 }
 
@@ -605,67 +683,139 @@ PetscErrorCode ContactDestroy(M2dContact *c)
   PetscFunctionBeginUser;
   for (PetscInt q = 0; q < c->npair; q++) PetscCall(ContactPairDestroy(&c->pair[q]));
   PetscCall(PetscFree(c->pair));
-  PetscCall(PetscFree(c->rowpair));
+  PetscCall(PetscFree2(c->rowpair, c->partner));
   PetscCall(ContactRowsDestroy(&c->R));
   PetscCall(PetscFree3(c->pressure, c->gap, c->active));
+  PetscCall(PetscFree4(c->traction, c->slip, c->slip_inc, c->status));
   c->npair = 0;
   PetscFunctionReturn(0);
+}
+
+/* the nodal values v (per normal row of pair c) as functions of x, sorted by
+ * x (the nodes' |x| when the pair lies on one side of x = 0, a half model),
+ * per unit x: the multiplier is a force per unit length of the non-mortar
+ * surface, so v_x = v ds/dx = v / |n_y| (n: the node's normal) */
+static PetscErrorCode AlongX(const M2dContactPair *c, PetscBool half, const PetscReal v[], XYIdx *o, PetscReal *px)
+{
+  PetscInt n = c->R.n;
+
+  PetscFunctionBeginUser;
+  for (PetscInt j = 0; j < n; j++) {
+    PetscReal nn[2], x = c->nm.x[2 * c->R.node[j]];
+    o[j].x = half ? PetscAbsReal(x) : x;
+    o[j].y = c->nm.x[2 * c->R.node[j] + 1];
+    o[j].j = j;
+    SurfaceNodeNormal(&c->nm, c->R.node[j], nn);
+    px[j] = v[j] / PetscMax(PetscAbsReal(nn[1]), PETSC_SMALL);
+  }
+  qsort(o, (size_t)n, sizeof(XYIdx), CmpXY);
+  PetscFunctionReturn(0);
+}
+
+/* the piecewise linear interpolant of the nodal values px (sorted by o) at x, constant beyond the first node */
+static PetscReal Interpolate(const XYIdx *o, const PetscReal *px, PetscInt n, PetscInt *k, PetscReal x)
+{
+  while (*k + 1 < n && o[*k + 1].x < x) (*k)++;
+  if (n == 1 || x <= o[0].x) return px[o[0].j];
+  if (*k + 1 < n) {
+    PetscReal t = (x - o[*k].x) / (o[*k + 1].x - o[*k].x);
+    return (1 - t) * px[o[*k].j] + t * px[o[*k + 1].j];
+  }
+  return 0;
+}
+
+/* does the pair lie on one side of x = 0 (a half model with its symmetry plane there)? */
+static PetscBool HalfModel(const M2dContactPair *c)
+{
+  PetscReal lo = PETSC_MAX_REAL, hi = PETSC_MIN_REAL;
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    lo = PetscMin(lo, c->nm.x[2 * c->R.node[j]]);
+    hi = PetscMax(hi, c->nm.x[2 * c->R.node[j]]);
+  }
+  return (PetscBool)(lo >= -1e-9 * (hi - lo) || hi <= 1e-9 * (hi - lo));
+}
+
+/* the half-width of the nodes where `in` holds: midway between the first and
+ * last such node and their outer neighbours (sorted by o; a half model: from 0) */
+static void ZoneHalfWidth(const XYIdx *o, PetscInt n, const PetscReal *in, PetscReal inval, PetscBool half, PetscReal *hw, PetscReal *hedge)
+{
+  PetscInt first = -1, last = -1;
+  *hw = *hedge = 0;
+  for (PetscInt k = 0; k < n; k++)
+    if (in[o[k].j] == inval) {
+      if (first < 0) first = k;
+      last = k;
+    }
+  if (last < 0) return;
+  {
+    PetscReal xr = last + 1 < n ? o[last + 1].x : o[last].x, xl = first > 0 ? o[first - 1].x : o[first].x;
+    PetscReal right = 0.5 * (o[last].x + xr), left = 0.5 * (o[first].x + xl);
+    *hw    = half ? right : 0.5 * (right - left);
+    *hedge = xr - o[last].x;
+  }
 }
 
 PetscErrorCode ContactHertz(const M2dContactPair *c, const M2dScene *s, M2dHertzResult *h)
 {
   XYIdx    *o;
-  PetscReal *px, inv = 0, Es, P = s->hertz_load, R = c->def->hertz_radius, num = 0, den = 0;
-  PetscInt  n = c->R.n, last = -1, b[2] = {c->nm.body, c->m.body};
+  PetscReal *px, inv = 0, Es, P = s->hertz_load > 0 ? s->hertz_load : c->force_n * (HalfModel(c) ? 2 : 1), R = c->def->hertz_radius, num = 0, den = 0, x0;
+  PetscInt  n = c->R.n, k = 0, b[2] = {c->nm.body, c->m.body};
+  PetscBool half = HalfModel(c);
   const int ns = 3000;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(h, sizeof(*h)));
   PetscCheck(b[0] >= 0 && b[1] >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -hertz: %s: a surface without its body", c->def->what);
-  for (PetscInt k = 0; k < 2; k++) inv += (s->plane == M2D_PLANE_STRAIN ? 1 - s->body[b[k]].nu * s->body[b[k]].nu : 1.0) / s->body[b[k]].E; /* the pair's two bodies */
+  for (PetscInt q = 0; q < 2; q++) inv += (s->plane == M2D_PLANE_STRAIN ? 1 - s->body[b[q]].nu * s->body[b[q]].nu : 1.0) / s->body[b[q]].E; /* the pair's two bodies */
   Es    = 1.0 / inv;
   h->a  = PetscSqrtReal(4 * P * R / (PETSC_PI * Es));
   h->p0 = 2 * P / (PETSC_PI * h->a);
-  PetscCall(PetscMalloc1(n + 1, &o));
-  for (PetscInt j = 0; j < n; j++) {
-    o[j].x = PetscAbsReal(c->nm.x[2 * c->R.node[j]]);
-    o[j].y = c->nm.x[2 * c->R.node[j] + 1];
-    o[j].j = j;
-  }
-  qsort(o, (size_t)n, sizeof(XYIdx), CmpXY);
-  /* the multiplier is force per unit length of the non-mortar surface; Hertz's
-   * p(x) is per unit x: p_x = lambda ds/dx = lambda / |n_y| (n: the node's normal) */
-  PetscCall(PetscMalloc1(n + 1, &px));
-  for (PetscInt j = 0; j < n; j++) {
-    PetscReal nn[2];
-    SurfaceNodeNormal(&c->nm, c->R.node[j], nn);
-    px[j] = c->pressure[j] / PetscMax(PetscAbsReal(nn[1]), PETSC_SMALL);
-  }
-  for (PetscInt k = 0; k < n; k++) {
-    h->peak_pressure = PetscMax(h->peak_pressure, px[o[k].j]);
-    if (c->active[o[k].j] != 0) last = k;
-  }
-  if (last >= 0) {
-    PetscReal xn   = last + 1 < n ? o[last + 1].x : o[last].x;
-    h->half_width  = 0.5 * (o[last].x + xn);
-    h->h_edge      = xn - o[last].x;
-  }
-  /* L2 on [0, 1.5 a] of the piecewise linear nodal pressure (midpoint rule, fine) */
+  PetscCall(PetscMalloc2(n + 1, &o, n + 1, &px));
+  PetscCall(AlongX(c, half, c->pressure, o, px));
+  for (PetscInt q = 0; q < n; q++) h->peak_pressure = PetscMax(h->peak_pressure, px[o[q].j]);
+  ZoneHalfWidth(o, n, c->active, 1.0, half, &h->half_width, &h->h_edge);
+  /* L2 on [0, 1.5 a] (a whole body: [-1.5 a, 1.5 a]) of the piecewise linear nodal pressure (midpoint rule, fine) */
+  x0 = half ? 0 : -1.5 * h->a;
   for (int i = 0; i < ns; i++) {
-    PetscReal x = (i + 0.5) * 1.5 * h->a / ns, ph = 0, pe = x < h->a ? h->p0 * PetscSqrtReal(1 - x * x / (h->a * h->a)) : 0;
-    PetscInt  k = 0;
-    while (k + 1 < n && o[k + 1].x < x) k++;
-    if (n == 1) ph = px[o[0].j];
-    else if (x <= o[0].x) ph = px[o[0].j];
-    else if (k + 1 < n) {
-      PetscReal t = (x - o[k].x) / (o[k + 1].x - o[k].x);
-      ph          = (1 - t) * px[o[k].j] + t * px[o[k + 1].j];
-    }
+    PetscReal x = half ? (i + 0.5) * 1.5 * h->a / ns : x0 + (i + 0.5) * 3 * h->a / ns, pe = PetscAbsReal(x) < h->a ? h->p0 * PetscSqrtReal(1 - x * x / (h->a * h->a)) : 0, ph = Interpolate(o, px, n, &k, x);
     num += (ph - pe) * (ph - pe);
     den += pe * pe;
   }
   h->pressure_l2_rel = PetscSqrtReal(num / den);
-  PetscCall(PetscFree(o));
-  PetscCall(PetscFree(px));
+  PetscCall(PetscFree2(o, px));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ContactCattaneo(const M2dContactPair *c, const M2dScene *s, const M2dHertzResult *h, M2dCattaneoResult *r)
+{
+  XYIdx    *o;
+  PetscReal *qx, sg = c->force_t < 0 ? -1 : 1, ne = 0, no = 0, nq = 0, a = h->a, mu = c->mu, P = s->hertz_load > 0 ? s->hertz_load : c->force_n, Q = PetscAbsReal(c->force_t);
+  PetscInt   n = c->R.n, kp = 0;
+  const int  ns = 3000;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(r, sizeof(*r)));
+  PetscCheck(mu > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -cattaneo: %s has no friction (-contact_friction)", c->def->what);
+  r->c_exact = a * PetscSqrtReal(PetscMax(0, 1 - Q / (mu * P)));
+  PetscCall(PetscMalloc2(n + 1, &o, n + 1, &qx));
+  PetscCall(AlongX(c, PETSC_FALSE, c->traction, o, qx));
+  for (PetscInt j = 0; j < n; j++) qx[j] *= sg; /* the friction force's own sign: q > 0 */
+  {
+    PetscReal hedge;
+    ZoneHalfWidth(o, n, c->status, M2D_STATUS_STICK, PETSC_FALSE, &r->c, &hedge);
+  }
+  /* the even part (q(x) + q(-x)) / 2 against the formula, the odd part (q(x) - q(-x)) / 2 against q, on [-1.5 a, 1.5 a] */
+  for (int i = 0; i < ns; i++) {
+    PetscInt  km = 0; /* -x runs backwards: a cursor of its own */
+    PetscReal x = -1.5 * a + (i + 0.5) * 3 * a / ns, qp = Interpolate(o, qx, n, &kp, x), qm = Interpolate(o, qx, n, &km, -x), qe, cc = r->c_exact;
+    qe = PetscAbsReal(x) < a ? mu * h->p0 * PetscSqrtReal(1 - x * x / (a * a)) : 0;
+    if (PetscAbsReal(x) < cc) qe -= mu * h->p0 * (cc / a) * PetscSqrtReal(1 - x * x / (cc * cc));
+    ne += PetscSqr(0.5 * (qp + qm) - qe);
+    no += PetscSqr(0.5 * (qp - qm));
+    nq += qe * qe;
+  }
+  r->shear_l2_rel = PetscSqrtReal(ne / nq);
+  r->shear_odd_rel = PetscSqrtReal(no / nq);
+  PetscCall(PetscFree2(o, qx));
   PetscFunctionReturn(0);
 }

@@ -259,7 +259,22 @@ static PetscErrorCode RowNormals(const M2dSurface *nm, const M2dSurface *m, cons
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, M2dContactRows *R)
+/* the direction of a row: the normal n, or the tangent (-n_y, n_x) */
+static void RowDirection(const PetscReal n[2], PetscBool tangent, PetscReal d[2])
+{
+  PetscReal n0 = n[0], n1 = n[1]; /* d may be n */
+  d[0] = tangent ? -n1 : n0;
+  d[1] = tangent ? n0 : n1;
+}
+
+/* a tangential row's constant: the slip is measured from the state a load
+ * step starts from (kkt.h), not from the geometry */
+static void ZeroGapConstants(M2dContactRows *R)
+{
+  for (PetscInt j = 0; j < R->n; j++) R->g0[j] = 0;
+}
+
+PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, M2dMortarBasis basis, PetscBool tangent, M2dContactRows *R)
 {
   RowSet     rs;
   PetscReal *n;
@@ -267,6 +282,7 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(2 * nm->nnode + 1, &n));
   PetscCall(RowNormals(nm, m, S, n));
+  for (PetscInt i = 0; i < nm->nnode; i++) RowDirection(&n[2 * i], tangent, &n[2 * i]);
   PetscCall(RowsStart(nm->nnode, &rs));
   for (PetscInt k = 0; k < S->nseg; k++) {
     const M2dSegment *s  = &S->seg[k];
@@ -290,10 +306,11 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
   }
   PetscCall(RowsFinish(&rs, R));
   PetscCall(PetscFree(n));
+  if (tangent) ZeroGapConstants(R);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R)
+PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, PetscBool tangent, M2dContactRows *R)
 {
   RowSet rs;
 
@@ -321,8 +338,9 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     if (bf < 0) continue;
     for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) a += 0.5 * nm->len[nm->n2e[k]];
     {
-      const PetscReal *n  = &m->normal[2 * bf];
-      const PetscInt  *em = &m->edge[2 * bf];
+      const PetscInt *em = &m->edge[2 * bf];
+      PetscReal       n[2];
+      RowDirection(&m->normal[2 * bf], tangent, n);
       PetscCall(RowAddNode(&rs, i, nm, i, a, n, p));
       PetscCall(RowAddNode(&rs, i, m, em[0], -a * 0.5 * (1 - bxi), n, p));
       PetscCall(RowAddNode(&rs, i, m, em[1], -a * 0.5 * (1 + bxi), n, p));
@@ -331,6 +349,7 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     rs.keep[i] = PETSC_TRUE;
   }
   PetscCall(RowsFinish(&rs, R));
+  if (tangent) ZeroGapConstants(R);
   PetscFunctionReturn(0);
 }
 

@@ -177,7 +177,8 @@ static PetscErrorCode CellDofs(const M2dMesh *m, PetscSection lsec, PetscInt c, 
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const M2dMeshArrays *ar, PetscScalar *fl)
+/* the edge loads of load stage `stage` (scene.h) */
+static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, PetscInt stage, const M2dMeshArrays *ar, PetscScalar *fl)
 {
   PetscFunctionBeginUser;
   for (PetscInt l = 0; l < s->nload; l++) {
@@ -186,6 +187,7 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const M2
     IS              is;
     const PetscInt *pts;
     PetscInt        n;
+    if (ld->stage != stage) continue;
     PetscCall(MeshGetGroupIS(m, ld->group, opt, &is));
     PetscCall(ISGetLocalSize(is, &n));
     PetscCall(ISGetIndices(is, &pts));
@@ -243,13 +245,13 @@ static PetscErrorCode AddEdgeLoads(const M2dMesh *m, const M2dScene *s, const M2
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R)
+PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *l, PetscReal *R, PetscBool *both)
 {
   PetscInt        n;
   const PetscInt *pts;
   M2dMeshArrays   ar;
   IS              is;
-  PetscReal       sum = 0;
+  PetscReal       sum = 0, ext[2] = {0, 0}; /* -min x, max x */
 
   PetscFunctionBeginUser;
   PetscCall(MeshArraysOpen(m, NULL, &ar));
@@ -270,11 +272,15 @@ PetscErrorCode ElasticityPressureResultant(const M2dMesh *m, const M2dEdgeLoad *
     }
     len = PetscSqrtReal(PetscSqr(xb[0] - xa[0]) + PetscSqr(xb[1] - xa[1]));
     sum += len * (l->p + l->grad[0] * 0.5 * (xa[0] + xb[0]) + l->grad[1] * 0.5 * (xa[1] + xb[1]));
+    ext[0] = PetscMax(ext[0], -PetscMin(xa[0], xb[0]));
+    ext[1] = PetscMax(ext[1], PetscMax(xa[0], xb[0]));
   }
   PetscCall(ISRestoreIndices(is, &pts));
   PetscCall(ISDestroy(&is));
   PetscCall(MeshArraysClose(&ar));
   PetscCallMPI(MPI_Allreduce(&sum, R, 1, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)m->dm)));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, ext, 2, MPIU_REAL, MPIU_MAX, PetscObjectComm((PetscObject)m->dm)));
+  *both = (PetscBool)(ext[0] > 1e-9 * (ext[0] + ext[1]) && ext[1] > 1e-9 * (ext[0] + ext[1]));
   PetscFunctionReturn(0);
 }
 
@@ -317,12 +323,33 @@ PetscErrorCode ElasticityAssemble(const M2dMesh *m, const M2dScene *s, const M2d
         }
     }
   }
-  PetscCall(AddEdgeLoads(m, s, &ar, fa));
+  PetscCall(AddEdgeLoads(m, s, 0, &ar, fa));
   PetscCall(VecRestoreArray(fl, &fa));
   PetscCall(M2dFramesRotateLocal(fr, m, fl, PETSC_FALSE)); /* f~ = T^T f, each rank's share */
   PetscCall(MeshArraysClose(&ar));
   PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
+  PetscCall(VecZeroEntries(f));
+  PetscCall(DMLocalToGlobal(m->dm, fl, ADD_VALUES, f));
+  PetscCall(DMRestoreLocalVector(m->dm, &fl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityStageLoad(const M2dMesh *m, const M2dScene *s, const M2dFrames *fr, PetscInt stage, Vec f)
+{
+  M2dMeshArrays ar;
+  Vec           fl;
+  PetscScalar  *fa;
+
+  PetscFunctionBeginUser;
+  PetscCall(MeshArraysOpen(m, NULL, &ar));
+  PetscCall(DMGetLocalVector(m->dm, &fl));
+  PetscCall(VecZeroEntries(fl));
+  PetscCall(VecGetArray(fl, &fa));
+  PetscCall(AddEdgeLoads(m, s, stage, &ar, fa));
+  PetscCall(VecRestoreArray(fl, &fa));
+  PetscCall(M2dFramesRotateLocal(fr, m, fl, PETSC_FALSE));
+  PetscCall(MeshArraysClose(&ar));
   PetscCall(VecZeroEntries(f));
   PetscCall(DMLocalToGlobal(m->dm, fl, ADD_VALUES, f));
   PetscCall(DMRestoreLocalVector(m->dm, &fl));
@@ -369,20 +396,49 @@ PetscErrorCode ElasticityDirichletRows(const M2dMesh *m, const M2dScene *s, cons
   PetscFunctionReturn(0);
 }
 
+/* the unit rows' diagonal: K's mean diagonal, so they do not spoil the conditioning */
+static PetscErrorCode DirichletDiagonal(Mat K, PetscReal *diag)
+{
+  PetscInt N;
+  Vec      d;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(K, &d, NULL));
+  PetscCall(MatGetDiagonal(K, d));
+  PetscCall(VecNorm(d, NORM_1, diag));
+  PetscCall(VecGetSize(d, &N));
+  PetscCall(VecDestroy(&d));
+  *diag = N > 0 && *diag > 0 ? *diag / N : 1.0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ElasticityLiftDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[])
+{
+  PetscReal diag;
+  Vec       ku;
+
+  PetscFunctionBeginUser;
+  PetscCall(DirichletDiagonal(K, &diag));
+  PetscCall(VecZeroEntries(u));
+  PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(u));
+  PetscCall(VecAssemblyEnd(u));
+  PetscCall(VecDuplicate(f, &ku)); /* as MatZeroRowsColumns: f - K u on the free rows, diag u on the held ones */
+  PetscCall(MatMult(K, u, ku));
+  PetscCall(VecAXPY(f, -1.0, ku));
+  PetscCall(VecDestroy(&ku));
+  for (PetscInt i = 0; i < n; i++) PetscCall(VecSetValue(f, rows[i], diag * vals[i], INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(f));
+  PetscCall(VecAssemblyEnd(f));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[])
 {
   PetscReal diag;
-  PetscInt  N;
-  Vec       d;
 
   PetscFunctionBeginUser;
-  /* scale the unit rows like K's diagonal, so they do not spoil the conditioning */
-  PetscCall(MatCreateVecs(K, &d, NULL));
-  PetscCall(MatGetDiagonal(K, d));
-  PetscCall(VecNorm(d, NORM_1, &diag));
-  PetscCall(VecGetSize(d, &N));
-  PetscCall(VecDestroy(&d));
-  diag = N > 0 && diag > 0 ? diag / N : 1.0;
+  PetscCall(DirichletDiagonal(K, &diag));
   PetscCall(VecZeroEntries(u));
   PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
   PetscCall(VecAssemblyBegin(u));

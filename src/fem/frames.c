@@ -1,6 +1,7 @@
 /* frames.c - supports on inclined boundaries (see frames.h). */
 #include "frames.h"
 #include <math.h>
+#include <string.h>
 
 /* per local vertex, the same on every rank: whether x/y support bc holds the
  * vertex, one flag per component (summed over the ranks, tested > 0) */
@@ -224,6 +225,7 @@ PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *f
   PetscCall(DMGetLocalVector(m->dm, &acc));
   for (PetscInt k = 0; k < s->ndir; k++) {
     const M2dDirichlet *bc = &s->dir[k];
+    if (bc->stage) continue; /* a later stage's change of a value: M2dFramesStage */
     if (bc->frame == M2D_BC_XY) {
       PetscCall(SupportAtVertices(m, bc, acc));
       PetscCall(VecGetArrayRead(acc, &a));
@@ -262,6 +264,32 @@ PetscErrorCode M2dFramesCreate(const M2dMesh *m, const M2dScene *s, M2dFrames *f
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &fr->any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)m->dm)));
   PetscCall(PetscFree3(ncon, dir, val));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dFramesStage(const M2dMesh *m, const M2dScene *s, PetscInt stage, const M2dFrames *fr, M2dFrames *frs)
+{
+  M2dScene *v;
+  PetscInt  nv = m->vEnd - m->vStart, same = 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&v)); /* the supports, valued by the stage's changes (scene.c checked that each has its support) */
+  *v = *s;
+  for (PetscInt i = 0; i < v->ndir; i++) {
+    M2dDirichlet *e = &v->dir[i];
+    if (e->stage) continue;
+    e->value[0] = e->value[1] = 0;
+    for (PetscInt j = 0; j < s->ndir; j++) {
+      const M2dDirichlet *d = &s->dir[j];
+      if (d->stage != stage || d->frame != e->frame || strcmp(d->group, e->group)) continue;
+      for (int c = 0; c < 2; c++)
+        if (e->frame != M2D_BC_XY || (e->comp[c] && d->comp[c])) e->value[c] += d->value[c];
+    }
+  }
+  PetscCall(M2dFramesCreate(m, v, frs));
+  PetscCall(PetscFree(v));
+  for (PetscInt k = 0; k < nv; k++) same = same && frs->mask[k] == fr->mask[k];
+  PetscCheck(same, PETSC_COMM_SELF, PETSC_ERR_PLIB, "load stage %d: its supports differ from the scene's", (int)stage + 1);
   PetscFunctionReturn(0);
 }
 

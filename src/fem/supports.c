@@ -122,11 +122,13 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
   for (PetscInt p = 0; p < ct->npair; p++) { /* every pair: a body held only by contacts is held by all of them together */
     const M2dContactPair *cp    = &ct->pair[p];
     const M2dSurface     *sf[2] = {&cp->nm, &cp->m};
-    for (PetscInt j = 0; j < cp->R.n; j++) {
-      PetscReal g[MAXM] = {0};
-      if (active && PetscRealPart(active[cp->off + j]) == 0) continue;
-      for (PetscInt k = cp->R.ptr[j]; k < cp->R.ptr[j + 1]; k++) {
-        PetscInt col = cp->R.col[k], d = col % 2, base = col - d;
+    for (PetscInt j = 0; j < cp->R.n + cp->T.n; j++) { /* the normal rows, then a sticking node's tangential ones */
+      const M2dContactRows *R = j < cp->R.n ? &cp->R : &cp->T;
+      PetscInt              ir = j < cp->R.n ? j : j - cp->R.n, row = j < cp->R.n ? cp->off + j : cp->toff + ir;
+      PetscReal             g[MAXM] = {0};
+      if (active && PetscRealPart(active[row]) == 0) continue;
+      for (PetscInt k = R->ptr[ir]; k < R->ptr[ir + 1]; k++) {
+        PetscInt col = R->col[k], d = col % 2, base = col - d;
         for (int q = 0; q < 2; q++) {
           PetscInt i;
           PetscCall(PetscFindInt(base, sf[q]->nnode, sf[q]->gdof, &i));
@@ -134,7 +136,7 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
             PetscReal r[3];
             PetscInt  b = sf[q]->body;
             Modes(sup, b, &sf[q]->x[2 * i], d, r);
-            for (int t = 0; t < 3; t++) g[3 * b + t] += cp->R.val[k] * r[t];
+            for (int t = 0; t < 3; t++) g[3 * b + t] += R->val[k] * r[t];
             break;
           }
         }

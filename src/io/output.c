@@ -303,7 +303,30 @@ static herr_t H5Fields(hid_t file, const Gathered *g, const M2dFieldSet *fs, con
   return st;
 }
 
-static PetscErrorCode WriteH5(const M2dFile *f, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
+/* an earlier state of a series: its fields in /steps/K/vertex_fields, /steps/K/cell_fields */
+static herr_t H5StepFields(hid_t file, PetscInt k, const Gathered *g, const M2dFieldSet *fs)
+{
+  herr_t st = 0;
+  char   name[256];
+  if (k == 0) st |= H5Group(file, "/steps");
+  snprintf(name, sizeof(name), "/steps/%d", (int)k + 1);
+  st |= H5Group(file, name);
+  snprintf(name, sizeof(name), "/steps/%d/vertex_fields", (int)k + 1);
+  st |= H5Group(file, name);
+  snprintf(name, sizeof(name), "/steps/%d/cell_fields", (int)k + 1);
+  st |= H5Group(file, name);
+  for (PetscInt f = 0; f < fs->npoint; f++) {
+    if ((size_t)snprintf(name, sizeof(name), "/steps/%d/vertex_fields/%s", (int)k + 1, fs->point[f].name) >= sizeof(name)) return -1;
+    st |= H5Write(file, name, H5T_NATIVE_DOUBLE, fs->point[f].vector ? 2 : 1, (hsize_t)g->nv, 3, g->pdata[f]);
+  }
+  for (PetscInt f = 0; f < fs->ncell; f++) {
+    if ((size_t)snprintf(name, sizeof(name), "/steps/%d/cell_fields/%s", (int)k + 1, fs->cell[f].name) >= sizeof(name)) return -1;
+    st |= H5Write(file, name, H5T_NATIVE_DOUBLE, 1, (hsize_t)g->nc, 1, g->cdata[f]);
+  }
+  return st;
+}
+
+static PetscErrorCode WriteH5(const M2dFile *f, const Gathered *g, const M2dFieldSet *fs, const M2dSeries *se, const Gathered *gs, const char *run_id)
 {
   hid_t  file, fcpl;
   herr_t st = 0;
@@ -317,34 +340,58 @@ static PetscErrorCode WriteH5(const M2dFile *f, const Gathered *g, const M2dFiel
   if (file < 0) st = -1;
   else {
     st |= H5Fields(file, g, fs, run_id);
+    for (PetscInt k = 0; se && k < se->n; k++) st |= H5StepFields(file, k, &gs[k], &se->step[k]);
     if (H5Fclose(file) < 0) st = -1;
   }
   PetscCheck(st >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "writing output file '%s' failed (HDF5)", f->final);
   PetscFunctionReturn(0);
 }
 
-/* XDMF 2 description of the HDF5 file h5base (a name beside it); ParaView's "XDMF Reader" opens it */
-static void WriteXMF(FILE *fp, const char *h5base, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
+/* one grid of an XDMF file: the mesh and the fields fs in the groups under
+ * `root` ("" or "/steps/K") of the HDF5 file h5base, at `time` (< 0: none) */
+static void WriteXMFGrid(FILE *fp, const char *h5base, const Gathered *g, const M2dFieldSet *fs, const char *root, const char *name, PetscReal time)
 {
   long long   nv = (long long)g->nv, nc = (long long)g->nc;
-  const char *item = "    <DataItem Dimensions=\"%lld%s\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/%s/%s</DataItem>\n";
+  const char *item = "    <DataItem Dimensions=\"%lld%s\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:%s/%s/%s</DataItem>\n";
 
-  fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<!-- mortar2d run_id %s -->\n<Xdmf Version=\"2.0\">\n <Domain>\n  <Grid Name=\"mortar2d\" GridType=\"Uniform\">\n", run_id);
+  fprintf(fp, "  <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
+  if (time >= 0) fprintf(fp, "   <Time Value=\"%.17g\"/>\n", (double)time);
   fprintf(fp, "   <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"%lld\">\n    <DataItem Dimensions=\"%lld 4\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">%s:/topology/cells</DataItem>\n   </Topology>\n", nc, nc, h5base);
   fprintf(fp, "   <Geometry GeometryType=\"XY\">\n");
-  fprintf(fp, item, nv, " 2", h5base, "geometry", "vertices");
+  fprintf(fp, item, nv, " 2", h5base, "", "geometry", "vertices");
   fprintf(fp, "   </Geometry>\n");
   for (PetscInt k = 0; k < fs->npoint; k++) {
     fprintf(fp, "   <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", fs->point[k].name, fs->point[k].vector ? "Vector" : "Scalar");
-    fprintf(fp, item, nv, fs->point[k].vector ? " 3" : "", h5base, "vertex_fields", fs->point[k].name);
+    fprintf(fp, item, nv, fs->point[k].vector ? " 3" : "", h5base, root, "vertex_fields", fs->point[k].name);
     fprintf(fp, "   </Attribute>\n");
   }
   for (PetscInt k = 0; k < fs->ncell; k++) {
     fprintf(fp, "   <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", fs->cell[k].name);
-    fprintf(fp, item, nc, "", h5base, "cell_fields", fs->cell[k].name);
+    fprintf(fp, item, nc, "", h5base, root, "cell_fields", fs->cell[k].name);
     fprintf(fp, "   </Attribute>\n");
   }
-  fprintf(fp, "  </Grid>\n </Domain>\n</Xdmf>\n");
+  fprintf(fp, "  </Grid>\n");
+}
+
+/* XDMF 2 description of the HDF5 file h5base (a name beside it); ParaView's
+ * "XDMF Reader" opens it. A series: a temporal collection, one grid per
+ * load step, the last one the final state. */
+static void WriteXMF(FILE *fp, const char *h5base, const Gathered *g, const M2dFieldSet *fs, const M2dSeries *se, PetscReal time_final, const char *run_id)
+{
+  fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<!-- mortar2d run_id %s -->\n<Xdmf Version=\"2.0\">\n <Domain>\n", run_id);
+  if (!se || !se->n) WriteXMFGrid(fp, h5base, g, fs, "", "mortar2d", -1);
+  else {
+    fprintf(fp, " <Grid Name=\"mortar2d\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    for (PetscInt k = 0; k < se->n; k++) {
+      char root[64], name[64];
+      snprintf(root, sizeof(root), "/steps/%d", (int)k + 1);
+      snprintf(name, sizeof(name), "step %d", (int)k + 1);
+      WriteXMFGrid(fp, h5base, g, &se->step[k], root, name, se->time[k]);
+    }
+    WriteXMFGrid(fp, h5base, g, fs, "", "final", time_final);
+    fprintf(fp, " </Grid>\n");
+  }
+  fprintf(fp, " </Domain>\n</Xdmf>\n");
 }
 
 /* ---------- the run's files ---------- */
@@ -383,7 +430,7 @@ PetscErrorCode OutputFile(M2dOutput *o, const char *suffix, FILE **fp)
 }
 
 /* rank 0: the field files, one after the other */
-static PetscErrorCode WriteFiles(M2dOutput *o, const Gathered *g, const M2dFieldSet *fs)
+static PetscErrorCode WriteFiles(M2dOutput *o, const Gathered *g, const M2dFieldSet *fs, const M2dSeries *se, const Gathered *gs, PetscReal time_final)
 {
   const M2dOutputPaths *p = o->paths;
   M2dFile              *f;
@@ -398,32 +445,37 @@ static PetscErrorCode WriteFiles(M2dOutput *o, const Gathered *g, const M2dField
   }
   if (p->h5) {
     PetscCall(AddFile(o, ".h5", PETSC_FALSE, &f));
-    PetscCall(WriteH5(f, g, fs, p->run_id));
+    PetscCall(WriteH5(f, g, fs, se, gs, p->run_id));
     PetscCall(M2dFileClose(f));
     M2dTestDelay();
     PetscCall(M2dPathPrintf(h5base, sizeof(h5base), "-output_name", "%s.h5", p->name));
     PetscCall(AddFile(o, ".xmf", PETSC_TRUE, &f));
-    WriteXMF(f->fp, h5base, g, fs, p->run_id);
+    WriteXMF(f->fp, h5base, g, fs, se, time_final, p->run_id);
     PetscCall(M2dFileClose(f));
     M2dTestDelay();
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs)
+PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *se, PetscReal time_final)
 {
-  Gathered       g;
+  Gathered       g, *gs = NULL;
   char           err[1024] = "";
   PetscErrorCode ierr      = 0;
+  PetscInt       ns = se && o->paths->h5 ? se->n : 0;
 
   PetscFunctionBeginUser;
   if (!o->paths->vtu && !o->paths->h5) PetscFunctionReturn(0);
   PetscCall(Gather(m, fs, &g));
+  PetscCall(PetscCalloc1(ns + 1, &gs));
+  for (PetscInt k = 0; k < ns; k++) PetscCall(Gather(m, &se->step[k], &gs[k]));
   if (o->rank == 0) { /* errors here are local to rank 0: catch them and raise them everywhere */
-    ierr = WriteFiles(o, &g, fs);
+    ierr = WriteFiles(o, &g, fs, ns ? se : NULL, gs, time_final);
     if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
   }
   GatheredFree(&g);
+  for (PetscInt k = 0; k < ns; k++) GatheredFree(&gs[k]);
+  PetscCall(PetscFree(gs));
   PetscCall(M2dCheckCollective(o->comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
 }

@@ -163,6 +163,30 @@ PetscErrorCode M2dSummaryListString(M2dSummary *s, const char *list, PetscInt in
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode M2dSummaryListArray(M2dSummary *s, const char *list, PetscInt index, const char *key, PetscInt n, const PetscReal v[])
+{
+  char          *text = NULL;
+  size_t         len = 0;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  if (s->err) PetscFunctionReturn(Raise(s, s->err));
+  ierr = PetscMalloc1(32 * (size_t)n + 3, &text);
+  if (!ierr) {
+    text[len++] = '[';
+    for (PetscInt i = 0; i < n; i++) {
+      if (PetscIsInfOrNanReal(v[i])) len += (size_t)snprintf(text + len, 32, "%snull", i ? ", " : "");
+      else len += (size_t)snprintf(text + len, 32, "%s%.17g", i ? ", " : "", (double)v[i]);
+    }
+    text[len++] = ']';
+    text[len]   = 0;
+    ierr        = Add(s, list, index < 0 ? -2 : index, key, text);
+  }
+  if (ierr) ierr = Fail(s, ierr, "summary: cannot store key '%s'", key);
+  PetscCall(Raise(s, ierr));
+  PetscFunctionReturn(0);
+}
+
 void SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v)
 {
   (void)Set(s, section, -1, key, 0, v, 0, NULL);

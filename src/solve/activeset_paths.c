@@ -1,98 +1,12 @@
-/* activeset_paths.c - what each solver path adds to the active-set iteration
- * (see activeset_paths.h): the condensed path's iteration on the multipliers
- * (condensed.h), the iterative path's solve of each step (iterative.h), the
- * VI solver's bounds. */
-#include "activeset_paths.h"
-
-/* condensed path: F(nu) = c h max(-lambda/c, C u - r) with C u = w + S0 nu and
- * lambda = nu + g C u (condensed.h); the u rows hold for every nu */
-static PetscErrorCode CondensedFunction(SNES snes, Vec nu, Vec F, void *ctx)
-{
-  M2dActiveSet      *as = (M2dActiveSet *)ctx;
-  const PetscScalar *v, *cu, *r;
-  PetscScalar       *l, *g, *f;
-  PetscInt           n;
-  PetscReal          gam = as->kkt->gamma;
-
-  PetscFunctionBeginUser;
-  (void)snes;
-  PetscCall(CondensedGaps(as->cond, nu, as->cu));
-  PetscCall(VecGetLocalSize(nu, &n));
-  PetscCall(VecGetArrayRead(nu, &v));
-  PetscCall(VecGetArrayRead(as->cu, &cu));
-  PetscCall(VecGetArrayRead(as->kkt->r, &r));
-  PetscCall(VecGetArray(as->lam, &l));
-  PetscCall(VecGetArray(as->gm, &g));
-  for (PetscInt j = 0; j < n; j++) {
-    g[j] = cu[j] - r[j];
-    l[j] = v[j] + gam * cu[j];
-  }
-  PetscCall(VecRestoreArray(as->gm, &g));
-  PetscCall(VecRestoreArray(as->lam, &l));
-  PetscCall(VecRestoreArrayRead(as->kkt->r, &r));
-  PetscCall(VecRestoreArrayRead(as->cu, &cu));
-  PetscCall(VecRestoreArrayRead(nu, &v));
-  PetscCall(ActiveSetUpdateMask(as));
-  PetscCall(VecGetArrayRead(as->lam, (const PetscScalar **)&l));
-  PetscCall(VecGetArrayRead(as->gm, (const PetscScalar **)&g));
-  PetscCall(VecGetArray(F, &f));
-  for (PetscInt j = 0; j < n; j++) f[j] = as->c * as->h * PetscMax(-PetscRealPart(l[j]) / as->c, PetscRealPart(g[j]));
-  PetscCall(VecRestoreArray(F, &f));
-  PetscCall(VecRestoreArrayRead(as->gm, (const PetscScalar **)&g));
-  PetscCall(VecRestoreArrayRead(as->lam, (const PetscScalar **)&l));
-  PetscFunctionReturn(0);
-}
-
-/* Condensed path: the first step as the full path takes it - the set of
- * (u = 0, lambda0) - solved directly: nu0 = -J^-1 F0, F0 the residual of that
- * set's linear piece at nu = 0, where C u(0) = w. The SNES starts from nu0. */
-PetscErrorCode ActiveSetCondensedStart(SNES snes, M2dActiveSet *as, Vec z0, Vec *nu, Mat *J)
-{
-  M2dKKT            *kkt = as->kkt;
-  Vec                F0, F;
-  PetscInt           n, N;
-  const PetscScalar *w, *r, *a;
-  PetscScalar       *f;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(kkt->r, &as->cu));
-  PetscCall(VecDuplicate(kkt->r, nu));
-  PetscCall(VecZeroEntries(*nu));
-  PetscCall(CondensedGaps(as->cond, *nu, as->cu)); /* w = C u(0) */
-  PetscCall(VecDuplicate(kkt->r, &F0));
-  PetscCall(VecGetLocalSize(kkt->r, &n));
-  PetscCall(VecGetSize(kkt->r, &N));
-  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, J));
-  /* the full path's start z0 = (0, lambda0): its residual sets the first mask and
-   * the norm the relative tolerance refers to */
-  PetscCall(VecDuplicate(z0, &F));
-  PetscCall(ActiveSetFunction(snes, z0, F, as));
-  PetscCall(VecNorm(F, NORM_2, &as->fnorm0));
-  PetscCall(VecDestroy(&F));
-  PetscCall(ActiveSetChooseSet(as, PetscObjectComm((PetscObject)snes)));
-  PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, *J));
-  PetscCall(VecGetArrayRead(as->cu, &w));
-  PetscCall(VecGetArrayRead(kkt->r, &r));
-  PetscCall(VecGetArrayRead(as->active, &a));
-  PetscCall(VecGetArray(F0, &f));
-  for (PetscInt j = 0; j < n; j++) f[j] = PetscRealPart(a[j]) != 0 ? -as->c * as->h * (w[j] - r[j]) : as->h * kkt->gamma * w[j];
-  PetscCall(VecRestoreArray(F0, &f));
-  PetscCall(VecRestoreArrayRead(as->active, &a));
-  PetscCall(VecRestoreArrayRead(kkt->r, &r));
-  PetscCall(VecRestoreArrayRead(as->cu, &w));
-  PetscCall(CondensedJacobianFactor(as->cond, *J));
-  PetscCall(CondensedJacobianSolve(as->cond, F0, *nu));
-  PetscCall(VecDestroy(&F0));
-  PetscCall(VecDuplicate(kkt->r, &F));
-  PetscCall(SNESSetFunction(snes, F, CondensedFunction, as));
-  PetscCall(VecDestroy(&F));
-  PetscCall(SNESSetJacobian(snes, *J, *J, ActiveSetJacobian, as));
-  PetscFunctionReturn(0);
-}
+/* activeset_paths.c - how each solver path takes the active-set loop's steps
+ * (activeset_impl.h's table): the condensed path's steps on the multipliers
+ * (condensed.h), the full path's KKT solves, the iterative path's inexact
+ * steps (iterative.h), the VI solver's bounds. */
+#include "activeset_impl.h"
 
 /* the step's linear solve, a shell PC (context: the active set) behind
- * KSPPREONLY: the condensed path's dense LU of its Jacobian, factored at set-up,
- * or the iterative path's solve (set up by ActiveSetJacobian) */
+ * KSPPREONLY: the condensed path's dense LU of its Jacobian, factored at
+ * set-up, or the iterative path's solve (set up by the loop's Jacobian) */
 static PetscErrorCode StepPCSetUp(PC pc)
 {
   M2dActiveSet *as;
@@ -102,14 +16,229 @@ static PetscErrorCode StepPCSetUp(PC pc)
   PetscCall(PCShellGetContext(pc, &as));
   if (as->cond) {
     PetscCall(PCGetOperators(pc, NULL, &P));
-    PetscCall(CondensedJacobianFactor(as->cond, P));
+    PetscCall(CondensedJacobianFactor(as->cond, P, as->partner, as->used, as->usedcoef, as->c, as->h));
   }
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y);
+
+static PetscErrorCode StepPCApply(PC pc, Vec b, Vec y)
+{
+  M2dActiveSet *as;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &as));
+  if (as->cond) PetscCall(CondensedJacobianSolve(as->cond, b, y));
+  else PetscCall(IterativeStep(as, b, y));
+  PetscFunctionReturn(0);
+}
+
+/* the SNES's KSP: the step PC alone, `name` saying what it does (-snes_view) */
+static PetscErrorCode SetStepPC(M2dActiveSet *as, const char *name)
+{
+  KSP ksp;
+  PC  pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(as->snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, as));
+  PetscCall(PCShellSetSetUp(pc, StepPCSetUp));
+  PetscCall(PCShellSetApply(pc, StepPCApply));
+  PetscCall(PCShellSetName(pc, name));
+  PetscFunctionReturn(0);
+}
+
+/* ---------------------------------------------------------------- condensed */
+
+/* factor once; the unknown is nu, its dense Jacobian solved by LAPACK on every rank */
+static PetscErrorCode CondensedSetup(M2dActiveSet *as, M2dActiveSetInfo *info)
+{
+  M2dKKT          *kkt = as->kkt;
+  M2dCondensedInfo ci;
+  PetscInt         n, N;
+
+  PetscFunctionBeginUser;
+  PetscCheck(kkt->aij && kkt->gamma > 0, PetscObjectComm((PetscObject)as->snes), PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
+  PetscCall(CondensedCreateFromKKT(kkt, &as->pb->s, &as->cond));
+  PetscCall(SetStepPC(as, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
+  PetscCall(CondensedGetInfo(as->cond, &ci));
+  info->factor_time        = ci.factor_time;
+  info->factor_flops       = ci.flops_sum;
+  info->factor_flops_max   = ci.flops_max;
+  info->interface_unknowns = ci.interface_unknowns;
+  PetscCall(VecDuplicate(kkt->r, &as->cu));
+  PetscCall(VecGetLocalSize(kkt->r, &n));
+  PetscCall(VecGetSize(kkt->r, &N));
+  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)kkt->r), n, n, N, N, NULL, &as->J));
+  PetscFunctionReturn(0);
+}
+
+/* the factorization condensed the first step's load; a later one's anew */
+static PetscErrorCode CondensedLoad(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  if (as->started) PetscCall(CondensedSetLoad(as->cond, as->kkt->f));
+  PetscFunctionReturn(0);
+}
+
+/* C u = w + S0 nu and lambda = nu + g C u (condensed.h): the u rows hold for every nu */
+static PetscErrorCode CondensedEvaluate(M2dActiveSet *as, Vec nu)
+{
+  const PetscScalar *v, *cu, *r;
+  PetscScalar       *l, *g;
+  PetscInt           n;
+  PetscReal          gam = as->kkt->gamma;
+
+  PetscFunctionBeginUser;
+  PetscCall(CondensedGaps(as->cond, nu, as->cu));
+  PetscCall(VecGetLocalSize(nu, &n));
+  PetscCall(VecGetArrayRead(nu, &v));
+  PetscCall(VecGetArrayRead(as->cu, &cu));
+  PetscCall(VecGetArrayRead(as->kkt->r, &r));
+  PetscCall(VecGetArrayWrite(as->lam, &l));
+  PetscCall(VecGetArrayWrite(as->gm, &g));
+  for (PetscInt j = 0; j < n; j++) {
+    g[j] = cu[j] - r[j];
+    l[j] = v[j] + gam * cu[j];
+  }
+  PetscCall(VecRestoreArrayWrite(as->gm, &g));
+  PetscCall(VecRestoreArrayWrite(as->lam, &l));
+  PetscCall(VecRestoreArrayRead(as->kkt->r, &r));
+  PetscCall(VecRestoreArrayRead(as->cu, &cu));
+  PetscCall(VecRestoreArrayRead(nu, &v));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CondensedJac(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CondensedJacobian(as->cond, as->active, as->c, as->h, as->J));
+  PetscFunctionReturn(0);
+}
+
+/* lambda from the last residual evaluation, u by one substitution */
+static PetscErrorCode CondensedFinish(M2dActiveSet *as, Vec nu, Vec u, Vec lam)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CondensedRecover(as->cond, PETSC_TRUE, nu, u));
+  PetscCall(VecCopy(as->lam, lam));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CondensedDestroyPath(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CondensedDestroy(&as->cond));
+  PetscCall(VecDestroy(&as->cu));
+  PetscFunctionReturn(0);
+}
+
+/* ------------------------------------------------------- full, iterative, VI */
+
+/* the KKT operator (kkt.h) is the step's matrix */
+static PetscErrorCode KKTLayout(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  as->J = as->kkt->A;
+  PetscCall(PetscObjectReference((PetscObject)as->J));
+  PetscFunctionReturn(0);
+}
+
+/* the full path's KSP and PC from the options (MUMPS LU by default) */
+static PetscErrorCode FullSetup(M2dActiveSet *as, M2dActiveSetInfo *info)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  (void)info;
+  PetscCall(KKTLayout(as));
+  PetscCall(SNESGetKSP(as->snes, &ksp));
+  PetscCall(M2dOrderingSetupKSP(ksp, as->pb->s.kkt_ordering, NULL));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode NoLoad(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  (void)as;
+  PetscFunctionReturn(0);
+}
+
+/* u and lambda of z; C u - r */
+static PetscErrorCode KKTEvaluate(M2dActiveSet *as, Vec z)
+{
+  M2dKKT *kkt = as->kkt;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecISCopy(z, kkt->isu, SCATTER_REVERSE, as->u));
+  PetscCall(VecISCopy(z, kkt->isl, SCATTER_REVERSE, as->lam));
+  PetscCall(MatMult(kkt->C, as->u, as->gm));
+  PetscCall(VecAXPY(as->gm, -1.0, kkt->r));
+  PetscFunctionReturn(0);
+}
+
+/* F_u = K u + C^T lambda - f (+ the augmented rows gamma C^T diag(active) (C u - r)) */
+static PetscErrorCode KKTResidualU(M2dActiveSet *as, Vec z, Vec F)
+{
+  M2dKKT *kkt = as->kkt;
+  Vec     Fu;
+
+  PetscFunctionBeginUser;
+  (void)z;
+  PetscCall(VecDuplicate(as->u, &Fu));
+  PetscCall(MatMult(kkt->K, as->u, Fu));
+  PetscCall(MatMultAdd(kkt->Ct, as->lam, Fu, Fu));
+  PetscCall(VecAXPY(Fu, -1.0, kkt->f));
+  if (kkt->gamma > 0 && !as->vi) {
+    Vec t, t2;
+    PetscCall(VecDuplicate(as->lam, &t));
+    PetscCall(VecDuplicate(as->u, &t2));
+    PetscCall(VecPointwiseMult(t, as->active, as->gm));
+    PetscCall(MatMult(kkt->Ct, t, t2));
+    PetscCall(VecAXPY(Fu, kkt->gamma, t2));
+    PetscCall(VecDestroy(&t));
+    PetscCall(VecDestroy(&t2));
+  }
+  PetscCall(VecISCopy(F, kkt->isu, SCATTER_FORWARD, Fu));
+  PetscCall(VecDestroy(&Fu));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode KKTJac(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  PetscCall(KKTSetActive(as->kkt, as->active, as->partner ? as->slip : NULL, as->c, as->c * as->h));
+  if (as->iter) PetscCall(M2dIterativeSetActive(as->iter, as->active, as->c, as->c * as->h));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode KKTFinish(M2dActiveSet *as, Vec z, Vec u, Vec lam)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecISCopy(z, as->kkt->isu, SCATTER_REVERSE, u));
+  PetscCall(VecISCopy(z, as->kkt->isl, SCATTER_REVERSE, lam));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode KKTDestroyPath(M2dActiveSet *as)
+{
+  PetscFunctionBeginUser;
+  PetscCall(M2dIterativeDestroy(&as->iter));
+  PetscCall(VecDestroy(&as->du));
+  PetscCall(VecDestroy(&as->cdu));
+  PetscCall(VecDestroy(&as->m[0]));
+  PetscCall(VecDestroy(&as->m[1]));
+  PetscCall(VecDestroy(&as->tolv));
+  PetscFunctionReturn(0);
+}
+
 /* m = the complementarity test at the step's next iterate z - y (lambda/c + g
- * + tie tolerance: the node is active where m >= 0, ActiveSetUpdateMask),
- * from lambda and g = C u - r at z (as->lam, as->gm) */
+ * + tie tolerance: the node is active where m >= 0), from lambda and
+ * g = C u - r at z (as->lam, as->gm) */
 static PetscErrorCode NextTest(M2dActiveSet *as, Vec y, Vec m)
 {
   M2dKKT *kkt = as->kkt;
@@ -121,7 +250,7 @@ static PetscErrorCode NextTest(M2dActiveSet *as, Vec y, Vec m)
   PetscCall(VecAXPBY(m, 1.0 / as->c, -1.0 / as->c, as->lam)); /* (lambda - dl) / c */
   PetscCall(VecAXPY(m, 1.0, as->gm));
   PetscCall(VecAXPY(m, -1.0, as->cdu));
-  PetscCall(VecAXPY(m, 1.0, as->tol));
+  PetscCall(VecAXPY(m, 1.0, as->tolv));
   PetscFunctionReturn(0);
 }
 
@@ -135,51 +264,24 @@ static PetscErrorCode NextTest(M2dActiveSet *as, Vec y, Vec m)
 #define M2D_SURE   2.0
 static PetscErrorCode NextSet(M2dActiveSet *as, Vec m1, Vec m2, PetscBool *sure, PetscBool *same)
 {
-  const PetscScalar *a, *b, *used;
-  PetscInt           n, flags[2] = {1, 1};
+  const PetscScalar *a, *b;
+  PetscInt           n, lo, flags[2] = {1, 1};
 
   PetscFunctionBeginUser;
   PetscCall(VecGetLocalSize(m1, &n));
+  PetscCall(VecGetOwnershipRange(m1, &lo, NULL));
   PetscCall(VecGetArrayRead(m1, &a));
   PetscCall(VecGetArrayRead(m2, &b));
-  PetscCall(VecGetArrayRead(as->used, &used));
   for (PetscInt j = 0; j < n; j++) {
     PetscReal x = PetscRealPart(b[j]);
     if (!(PetscAbsReal(x) > M2D_SURE * PetscAbsReal(x - PetscRealPart(a[j])))) flags[0] = 0;
-    if ((x >= 0) != (PetscRealPart(used[j]) != 0)) flags[1] = 0;
+    if ((x >= 0) != (as->used[lo + j] != 0)) flags[1] = 0;
   }
-  PetscCall(VecRestoreArrayRead(as->used, &used));
   PetscCall(VecRestoreArrayRead(m2, &b));
   PetscCall(VecRestoreArrayRead(m1, &a));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPIU_INT, MPI_MIN, PetscObjectComm((PetscObject)m1)));
   *sure = (PetscBool)flags[0];
   *same = (PetscBool)flags[1];
-  PetscFunctionReturn(0);
-}
-
-/* *held when the set test m tells (active where m >= 0) leaves no body free;
- * uses as->all. Collective. */
-static PetscErrorCode TellsHeldSet(M2dActiveSet *as, Vec m, PetscBool *held)
-{
-  const PetscScalar *a;
-  PetscScalar       *b;
-  PetscInt           n;
-  Vec                mask;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(m, &mask));
-  PetscCall(VecGetLocalSize(m, &n));
-  PetscCall(VecGetArrayRead(m, &a));
-  PetscCall(VecGetArrayWrite(mask, &b));
-  for (PetscInt j = 0; j < n; j++) b[j] = PetscRealPart(a[j]) >= 0 ? 1.0 : 0.0;
-  PetscCall(VecRestoreArrayWrite(mask, &b));
-  PetscCall(VecRestoreArrayRead(m, &a));
-  PetscCall(VecScatterBegin(as->toall, mask, as->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(as->toall, mask, as->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecDestroy(&mask));
-  PetscCall(VecGetArrayRead(as->all, &a));
-  PetscCall(M2dSupportsHeld(&as->pb->supports, PetscObjectComm((PetscObject)m), &as->pb->contact, a, held));
-  PetscCall(VecRestoreArrayRead(as->all, &a));
   PetscFunctionReturn(0);
 }
 
@@ -189,15 +291,15 @@ static PetscErrorCode TellsHeldSet(M2dActiveSet *as, Vec m, PetscBool *held)
  * and holds every body: a node it got wrong is put right by the next step,
  * whose solve tells it again (inexact Newton; the sets visited may differ
  * from the complete solves', their end does not): from a cold start only
- * (ActiveSetSetupIterative), and until |F| rises or the sets cycle
- * (activeset.c, activeset_step.c). Otherwise the step is
- * completed to -iterative_ksp_rtol: the last step's answer is a complete
- * solve's, and a set that would free a body is judged on a complete solve.
- * With -iterative_prove (or once the sets have cycled) CG goes on instead
- * by factors of M2D_REFINE; once the next set is sure (NextSet: the set an
- * exact solve gives), a step whose next set is another stops there, and a
- * step whose set has settled (the last one) is completed. A set never sure
- * (a node on the boundary to round-off) ends complete too. */
+ * (IterativeSetup), and until |F| rises or the sets cycle (activeset.c).
+ * Otherwise the step is completed to -iterative_ksp_rtol: the last step's
+ * answer is a complete solve's, and a set that would free a body is judged
+ * on a complete solve. With -iterative_prove (or once the sets have cycled)
+ * CG goes on instead by factors of M2D_REFINE; once the next set is sure
+ * (NextSet: the set an exact solve gives), a step whose next set is another
+ * stops there, and a step whose set has settled (the last one) is
+ * completed. A set never sure (a node on the boundary to round-off) ends
+ * complete too. */
 static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
 {
   M2dIterativeInfo ii;
@@ -218,7 +320,7 @@ static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
   PetscCall(NextTest(as, y, as->m[0]));
   if (!as->proving) {
     PetscCall(NextSet(as, as->m[0], as->m[0], &sure, &same)); /* only *same is wanted */
-    if (!same) PetscCall(TellsHeldSet(as, as->m[0], &held));
+    if (!same) PetscCall(ActiveSetHeldBy(as, as->m[0], &held));
     if (!same && held) as->unproven++;
     else PetscCall(M2dIterativeRefine(as->iter, 0, y)); /* maybe the last step, or a set that frees a body: complete, the next test exact */
     PetscFunctionReturn(0);
@@ -233,100 +335,96 @@ static PetscErrorCode IterativeStep(M2dActiveSet *as, Vec b, Vec y)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode StepPCApply(PC pc, Vec b, Vec y)
-{
-  M2dActiveSet *as;
-
-  PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &as));
-  if (as->cond) PetscCall(CondensedJacobianSolve(as->cond, b, y));
-  else PetscCall(IterativeStep(as, b, y));
-  PetscFunctionReturn(0);
-}
-
-/* the SNES's KSP: the step PC alone, `name` saying what it does (-snes_view) */
-static PetscErrorCode SetStepPC(SNES snes, M2dActiveSet *as, const char *name)
-{
-  KSP ksp;
-  PC  pc;
-
-  PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PCShellSetContext(pc, as));
-  PetscCall(PCShellSetSetUp(pc, StepPCSetUp));
-  PetscCall(PCShellSetApply(pc, StepPCApply));
-  PetscCall(PCShellSetName(pc, name));
-  PetscFunctionReturn(0);
-}
-
-/* condensed path: factor once; the SNES unknown is nu, its dense Jacobian solved by LAPACK on every rank */
-PetscErrorCode ActiveSetSetupCondensed(SNES snes, M2dActiveSet *as, M2dActiveSetInfo *info)
-{
-  M2dCondensedInfo ci;
-
-  PetscFunctionBeginUser;
-  PetscCheck(as->kkt->aij && as->kkt->gamma > 0, PetscObjectComm((PetscObject)snes), PETSC_ERR_USER_INPUT, "option -kkt_path condensed: needs -kkt_mat aij (use -kkt_path full for nest/fieldsplit)");
-  PetscCall(CondensedCreateFromKKT(as->kkt, &as->pb->s, &as->cond));
-  PetscCall(SetStepPC(snes, as, "dense LU of the condensed Jacobian (LAPACK, every rank)"));
-  PetscCall(CondensedGetInfo(as->cond, &ci));
-  info->factor_time        = ci.factor_time;
-  info->factor_flops       = ci.flops_sum;
-  info->factor_flops_max   = ci.flops_max;
-  info->interface_unknowns = ci.interface_unknowns;
-  PetscFunctionReturn(0);
-}
-
-/* iterative path: each step's KKT solve by M2dIterativeSolve (the step PC),
- * set up by ActiveSetJacobian for the step's set */
-PetscErrorCode ActiveSetSetupIterative(SNES snes, M2dActiveSet *as)
+/* each step's KKT solve by M2dIterativeSolve (the step PC), set up by the loop's Jacobian */
+static PetscErrorCode IterativeSetup(M2dActiveSet *as, M2dActiveSetInfo *info)
 {
   M2dIterativeInfo ii;
+  PetscInt         lo, hi;
+  PetscScalar     *t;
 
   PetscFunctionBeginUser;
+  (void)info;
+  PetscCall(KKTLayout(as));
   PetscCall(M2dIterativeCreate(as->kkt, &as->pb->Rkkt, as->pb->ndir, as->pb->drows, &as->iter));
   PetscCall(VecDuplicate(as->u, &as->du));
   PetscCall(VecDuplicate(as->lam, &as->cdu));
   PetscCall(VecDuplicate(as->lam, &as->m[0]));
   PetscCall(VecDuplicate(as->lam, &as->m[1]));
+  PetscCall(VecDuplicate(as->lam, &as->tolv));
+  PetscCall(VecGetOwnershipRange(as->tolv, &lo, &hi));
+  PetscCall(VecGetArrayWrite(as->tolv, &t));
+  for (PetscInt j = lo; j < hi; j++) t[j - lo] = as->tol[j];
+  PetscCall(VecRestoreArrayWrite(as->tolv, &t));
   /* -iterative_prove; or a start from the previous mesh's set: it is near the
    * answer, where an inexact solve's set is the least to be trusted (many
    * nodes near the switch: the adaptive punch wandered for 50 steps) */
   PetscCall(M2dIterativeGetInfo(as->iter, &ii));
   as->proving = (PetscBool)(ii.prove || as->pb->warm != NULL);
-  PetscCall(SetStepPC(snes, as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
+  PetscCall(SetStepPC(as, "multipliers eliminated, CG + AMG in u (iterative.h)"));
   PetscFunctionReturn(0);
 }
 
 /* vinewtonrsls: Jacobian [K C^T; -C 0] (all rows, multiplier rows negated), lambda >= 0 */
-PetscErrorCode ActiveSetSetupVI(SNES snes, M2dActiveSet *as, Vec z)
+static PetscErrorCode VISetup(M2dActiveSet *as, M2dActiveSetInfo *info)
 {
-  M2dKKT *kkt  = as->kkt;
-  MPI_Comm comm = PetscObjectComm((PetscObject)snes);
-  Vec     lower, upper, sign;
+  M2dKKT  *kkt  = as->kkt;
+  MPI_Comm comm = PetscObjectComm((PetscObject)as->snes);
+  Vec      lower, upper, sign, l;
 
   PetscFunctionBeginUser;
   PetscCheck(kkt->aij, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: needs the monolithic matrix (-kkt_mat aij)");
   PetscCheck(kkt->gamma == 0, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: does not combine with -kkt_augment");
+  PetscCall(FullSetup(as, info));
   PetscCall(VecSet(as->active, 1.0));
-  PetscCall(KKTSetActive(kkt, as->active, as->c, as->c * as->h));
-  PetscCall(VecDuplicate(z, &sign));
+  PetscCall(KKTSetActive(kkt, as->active, NULL, as->c, as->c * as->h));
+  PetscCall(VecDuplicate(as->x, &sign));
+  PetscCall(VecDuplicate(as->lam, &l));
   PetscCall(VecSet(sign, 1.0));
-  PetscCall(VecSet(as->lam, -1.0));
-  PetscCall(VecISCopy(sign, kkt->isl, SCATTER_FORWARD, as->lam));
+  PetscCall(VecSet(l, -1.0));
+  PetscCall(VecISCopy(sign, kkt->isl, SCATTER_FORWARD, l));
   PetscCall(MatDiagonalScale(kkt->A, sign, NULL));
-  PetscCall(VecDestroy(&sign));
-  PetscCall(VecDuplicate(z, &lower));
-  PetscCall(VecDuplicate(z, &upper));
+  PetscCall(VecDuplicate(as->x, &lower));
+  PetscCall(VecDuplicate(as->x, &upper));
   PetscCall(VecSet(upper, PETSC_INFINITY));
   PetscCall(VecSet(lower, PETSC_NINFINITY));
-  PetscCall(VecZeroEntries(as->lam));
-  PetscCall(VecISCopy(lower, kkt->isl, SCATTER_FORWARD, as->lam));
-  PetscCall(SNESVISetVariableBounds(snes, lower, upper));
+  PetscCall(VecZeroEntries(l));
+  PetscCall(VecISCopy(lower, kkt->isl, SCATTER_FORWARD, l));
+  PetscCall(SNESVISetVariableBounds(as->snes, lower, upper));
   PetscCall(VecDestroy(&lower));
   PetscCall(VecDestroy(&upper));
-  PetscCall(SNESSetJacobian(snes, kkt->A, kkt->A, ActiveSetJacobian, as));
+  PetscCall(VecDestroy(&sign));
+  PetscCall(VecDestroy(&l));
   PetscFunctionReturn(0);
 }
+
+/* The VI solver starts from lambda = c max(g~0, 1e-6 of the mortar surface's
+ * size) on the initial rules' closed rows: it fixes a multiplier at its bound
+ * 0 while the gap is open, and a positive start keeps the first set's rows (a
+ * body held only by the contact would otherwise be free in the first step) */
+static PetscErrorCode VILoad(M2dActiveSet *as)
+{
+  const M2dContact  *ct = &as->pb->contact;
+  const PetscScalar *r;
+  PetscScalar       *l;
+  PetscInt           lo, hi;
+
+  PetscFunctionBeginUser;
+  if (as->started) PetscFunctionReturn(0);
+  PetscCall(VecGetOwnershipRange(as->kkt->r, &lo, &hi));
+  PetscCall(VecGetArrayRead(as->kkt->r, &r));
+  PetscCall(VecGetArrayWrite(as->lam, &l));
+  for (PetscInt j = lo; j < hi; j++) {
+    const M2dSurface *m = &ct->pair[ct->rowpair[j]].m;
+    PetscReal         L = PetscSqrtReal(PetscSqr(m->hi[0] - m->lo[0]) + PetscSqr(m->hi[1] - m->lo[1])) * as->pb->units.L / as->pb->units.U;
+    l[j - lo]           = as->used[j] != 0 ? as->c * PetscMax(PetscRealPart(r[j - lo]), 1e-6 * L * ct->R.w[j]) : 0;
+  }
+  PetscCall(VecRestoreArrayWrite(as->lam, &l));
+  PetscCall(VecRestoreArrayRead(as->kkt->r, &r));
+  PetscCall(VecISCopy(as->x, as->kkt->isl, SCATTER_FORWARD, as->lam));
+  PetscFunctionReturn(0);
+}
+
+const M2dPathOps M2dPathCondensed = {"K factored once, steps on the multipliers (condensed)", PETSC_TRUE, CondensedSetup, CondensedLoad, CondensedEvaluate, NULL, CondensedJac, CondensedFinish, CondensedDestroyPath};
+const M2dPathOps M2dPathFull      = {"KKT refactored each step (full)", PETSC_FALSE, FullSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};
+const M2dPathOps M2dPathIterative = {"multipliers eliminated, CG + AMG in u (iterative)", PETSC_FALSE, IterativeSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};
+const M2dPathOps M2dPathVI        = {"KKT refactored each step (full)", PETSC_FALSE, VISetup, VILoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};

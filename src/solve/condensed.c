@@ -206,7 +206,7 @@ static PetscErrorCode CondenseLoad(M2dCondensed *cs, Vec f)
     PetscCallBLAS("BLAStrsm", BLAStrsm_("L", "L", "N", "N", &bs, &ione, &one, di->L, &bs, g, &bs));
     PetscCall(PetscArraycpy(di->z, g, ns));
   }
-  PetscCall(MatCreateVecs(cs->C, NULL, &cs->w));
+  if (!cs->w) PetscCall(MatCreateVecs(cs->C, NULL, &cs->w));
   PetscCall(VecGetArrayWrite(cs->w, &w));
   for (PetscInt i = 0; i < sp->nl; i++) {
     const PetscScalar *x = di->X ? di->X + (sp->l0 + i) * ns : NULL; /* column l0 + i of X */
@@ -337,8 +337,17 @@ PetscErrorCode CondensedJacobian(M2dCondensed *cs, Vec active, PetscReal c, Pets
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode CondensedSetLoad(M2dCondensed *cs, Vec f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MUMPS_SOLVE], 0, 0, 0, 0));
+  PetscCall(CondenseLoad(cs, f));
+  PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MUMPS_SOLVE], 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
 /* every rank: the whole J, gathered by rows (row-major = J^T column-major), LU of J^T */
-PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J)
+PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J, const PetscInt partner[], const PetscReal rule[], const PetscReal coef[], PetscReal c, PetscReal h)
 {
   PetscMPIInt        size, nr, *counts, *displ;
   const PetscScalar *Jv;
@@ -360,6 +369,14 @@ PetscErrorCode CondensedJacobianFactor(M2dCondensed *cs, Mat J)
   for (PetscMPIInt p = 1; p < size; p++) displ[p] = displ[p - 1] + counts[p - 1];
   PetscCallMPI(MPI_Allgatherv(rows, nr, MPIU_SCALAR, cs->jac.lu, counts, displ, MPIU_SCALAR, cs->comm));
   PetscCall(PetscFree3(rows, counts, displ));
+  for (PetscInt j = 0; partner && j < N; j++) { /* the slipping rows' coupling to their normal rows */
+    PetscInt     p = partner[j];
+    PetscScalar *Jj = cs->jac.lu + j * N, *Jp;
+    if (p < 0 || rule[j] != 0 || coef[j] == 0) continue;
+    Jp = cs->jac.lu + p * N;
+    for (PetscInt k = 0; k < N; k++) Jj[k] += coef[j] * (cs->gamma + c) / c * Jp[k];
+    Jj[p] += h * coef[j];
+  }
   PetscCall(PetscBLASIntCast(N, &bN));
   if (N > 0) {
     PetscCallBLAS("LAPACKgetrf", LAPACKgetrf_(&bN, &bN, cs->jac.lu, &bN, cs->jac.piv, &info));

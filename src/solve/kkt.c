@@ -2,7 +2,11 @@
 #include "kkt.h"
 #include <string.h>
 
-static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat *C)
+/* C = -B from rows R (every rank holds them), in K's column layout; with
+ * partner, P: row j holds the values of row partner[j] (0 on normal rows),
+ * in row j's own columns (a tangential row has its normal row's columns in
+ * the same order: mortar.h) */
+static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, const PetscInt partner[], Mat K, Mat *C, Mat *P)
 {
   PetscInt nu, Nu, lo, hi, clo, chi, *dnz, *onz;
 
@@ -23,60 +27,73 @@ static PetscErrorCode BuildC(MPI_Comm comm, const M2dContactRows *R, Mat K, Mat 
     }
   PetscCall(MatSeqAIJSetPreallocation(*C, 0, dnz));
   PetscCall(MatMPIAIJSetPreallocation(*C, 0, dnz, 0, onz));
+  if (partner) {
+    PetscCall(MatDuplicate(*C, MAT_DO_NOT_COPY_VALUES, P));
+    PetscCall(MatSetOption(*P, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  }
   PetscCall(PetscFree2(dnz, onz));
   for (PetscInt j = lo; j < hi; j++) {
-    PetscInt   n = R->ptr[j + 1] - R->ptr[j];
+    PetscInt   n = R->ptr[j + 1] - R->ptr[j], p = partner ? partner[j] : -1;
     PetscReal *v;
     PetscCall(PetscMalloc1(n + 1, &v));
     for (PetscInt k = 0; k < n; k++) v[k] = -R->val[R->ptr[j] + k]; /* C = -B */
     PetscCall(MatSetValues(*C, 1, &j, n, &R->col[R->ptr[j]], v, INSERT_VALUES));
+    if (partner) {
+      for (PetscInt k = 0; k < n; k++) v[k] = p >= 0 ? -R->val[R->ptr[p] + k] : 0.0;
+      PetscCall(MatSetValues(*P, 1, &j, n, &R->col[R->ptr[j]], v, INSERT_VALUES));
+    }
     PetscCall(PetscFree(v));
   }
   PetscCall(MatAssemblyBegin(*C, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(*C, MAT_FINAL_ASSEMBLY));
+  if (partner) {
+    PetscCall(MatAssemblyBegin(*P, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(*P, MAT_FINAL_ASSEMBLY));
+  }
   PetscFunctionReturn(0);
 }
 
-/* C = -B with the Dirichlet columns zeroed and their part moved to r = g0 - C u_D */
-static PetscErrorCode ConstraintRows(const M2dContactRows *R, Mat K, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+/* C = -B (and P) with the Dirichlet columns zeroed, C0 = C before, g0 the rows' constants */
+static PetscErrorCode ConstraintRows(const M2dContactRows *R, const PetscInt partner[], Mat K, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)K);
-  Vec      g0, mask;
+  Vec      mask;
   PetscInt lo, hi;
 
   PetscFunctionBeginUser;
-  PetscCall(BuildC(comm, R, K, &kkt->C));
-  PetscCall(MatCreateVecs(kkt->C, NULL, &g0));
-  PetscCall(VecDuplicate(g0, &kkt->r));
-  PetscCall(VecGetOwnershipRange(g0, &lo, &hi));
-  for (PetscInt j = lo; j < hi; j++) PetscCall(VecSetValue(g0, j, R->g0[j], INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(g0));
-  PetscCall(VecAssemblyEnd(g0));
-  PetscCall(MatMult(kkt->C, ubc, kkt->r));
-  PetscCall(VecAYPX(kkt->r, -1.0, g0));
-  PetscCall(VecDestroy(&g0));
+  PetscCall(BuildC(comm, R, partner, K, &kkt->C, &kkt->P));
+  PetscCall(MatDuplicate(kkt->C, MAT_COPY_VALUES, &kkt->C0));
+  PetscCall(MatCreateVecs(kkt->C, NULL, &kkt->g0));
+  PetscCall(VecDuplicate(kkt->g0, &kkt->r));
+  PetscCall(VecGetOwnershipRange(kkt->g0, &lo, &hi));
+  for (PetscInt j = lo; j < hi; j++) PetscCall(VecSetValue(kkt->g0, j, R->g0[j], INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(kkt->g0));
+  PetscCall(VecAssemblyEnd(kkt->g0));
   PetscCall(MatCreateVecs(K, &mask, NULL));
   PetscCall(VecSet(mask, 1.0));
   for (PetscInt i = 0; i < ndir; i++) PetscCall(VecSetValue(mask, drows[i], 0.0, INSERT_VALUES));
   PetscCall(VecAssemblyBegin(mask));
   PetscCall(VecAssemblyEnd(mask));
   PetscCall(MatDiagonalScale(kkt->C, NULL, mask));
+  if (kkt->P) PetscCall(MatDiagonalScale(kkt->P, NULL, mask));
   PetscCall(VecDestroy(&mask));
   PetscCall(MatTranspose(kkt->C, MAT_INITIAL_MATRIX, &kkt->Ct));
   PetscCall(MatDuplicate(kkt->C, MAT_COPY_VALUES, &kkt->CA));
+  if (partner) {
+    PetscCall(PetscMalloc1(R->n + 1, &kkt->partner));
+    PetscCall(PetscArraycpy(kkt->partner, partner, R->n));
+  }
   PetscFunctionReturn(0);
 }
 
-/* the (u,u) block and its right-hand side fk: K and f, or with w > 0
- * K + g C^T C and f + g C^T r, g = w mean diag(K) / mean diag(C^T C) */
-static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt, Vec fk)
+/* the (u,u) block: K, or with w > 0 K + g C^T C, g = w mean diag(K) / mean diag(C^T C) */
+static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt)
 {
   Vec       dk, dc;
   PetscReal sk, sc;
   PetscInt  n;
 
   PetscFunctionBeginUser;
-  PetscCall(VecCopy(kkt->f, fk));
   if (!(w > 0)) {
     PetscCall(PetscObjectReference((PetscObject)kkt->K));
     kkt->Kblk = kkt->K;
@@ -100,8 +117,6 @@ static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt, Vec fk)
     if (nsp) PetscCall(MatSetNearNullSpace(kkt->Kblk, nsp)); /* an AMG on the u split (fieldsplit) */
   }
   PetscCall(MatAXPY(kkt->Kblk, kkt->gamma, kkt->CtCA, SUBSET_NONZERO_PATTERN)); /* K holds C^T C's pattern (MeshCreateMatrix) */
-  PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
-  PetscCall(VecAXPY(fk, kkt->gamma, dk));
   PetscCall(VecDestroy(&dk));
   PetscCall(VecDestroy(&dc));
   PetscFunctionReturn(0);
@@ -109,7 +124,7 @@ static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt, Vec fk)
 
 /* the nest of the four blocks (an explicit zero (lambda, lambda) block keeps
  * the structure symmetric for MUMPS), the operator A, the splits and b, x */
-static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, Vec fk, M2dKKT *kkt)
+static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)kkt->K);
   PetscInt lo, hi, nl, Nl, nu, N;
@@ -119,9 +134,13 @@ static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, Vec fk, M
   PetscFunctionBeginUser;
   PetscCall(VecGetLocalSize(kkt->r, &nl));
   PetscCall(VecGetSize(kkt->r, &Nl));
-  PetscCall(MatCreateAIJ(comm, nl, nl, Nl, Nl, 1, NULL, 0, NULL, &kkt->Z));
+  /* a slipping tangential row couples to its normal row (KKTSetActive) */
+  PetscCall(MatCreateAIJ(comm, nl, nl, Nl, Nl, kkt->partner ? 2 : 1, NULL, kkt->partner ? 1 : 0, NULL, &kkt->Z));
   PetscCall(VecGetOwnershipRange(kkt->r, &lo, &hi));
-  for (PetscInt j = lo; j < hi; j++) PetscCall(MatSetValue(kkt->Z, j, j, 0.0, INSERT_VALUES));
+  for (PetscInt j = lo; j < hi; j++) {
+    PetscCall(MatSetValue(kkt->Z, j, j, 0.0, INSERT_VALUES));
+    if (kkt->partner && kkt->partner[j] >= 0) PetscCall(MatSetValue(kkt->Z, j, kkt->partner[j], 0.0, INSERT_VALUES));
+  }
   PetscCall(MatAssemblyBegin(kkt->Z, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->Z, MAT_FINAL_ASSEMBLY));
   blocks[0] = kkt->Kblk, blocks[1] = kkt->Ct, blocks[2] = kkt->CA, blocks[3] = kkt->Z;
@@ -141,15 +160,11 @@ static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, Vec fk, M
   PetscCall(VecGetSize(kkt->f, &N));
   PetscCall(VecCreateMPI(comm, nu + nl, N + Nl, &kkt->b));
   PetscCall(VecDuplicate(kkt->b, &kkt->x));
-  PetscCall(VecISCopy(kkt->b, kkt->isu, SCATTER_FORWARD, fk));
-  PetscCall(VecISCopy(kkt->b, kkt->isl, SCATTER_FORWARD, kkt->r));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
-  Vec fk;
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
   kkt->nlam = R->n;
@@ -158,15 +173,74 @@ PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContac
   kkt->aij  = (PetscBool)(s->kkt_mat == M2D_KKT_AIJ);
   PetscCall(PetscObjectReference((PetscObject)K));
   PetscCall(PetscObjectReference((PetscObject)f));
-  PetscCall(ConstraintRows(R, K, ubc, ndir, drows, kkt));
-  PetscCall(VecDuplicate(f, &fk));
-  PetscCall(AugmentedBlock(s->kkt_augment, kkt, fk));
-  PetscCall(Operator(s, condensed, fk, kkt));
+  PetscCall(ConstraintRows(R, partner, K, ndir, drows, kkt));
+  PetscCall(AugmentedBlock(s->kkt_augment, kkt));
+  PetscCall(Operator(s, condensed, kkt));
+  PetscCall(KKTSetLoad(kkt, ubc, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTSetLoad(M2dKKT *kkt, Vec ubc, Vec uprev)
+{
+  Vec fk;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatMult(kkt->C0, ubc, kkt->r));
+  PetscCall(VecAYPX(kkt->r, -1.0, kkt->g0));
+  if (kkt->partner && uprev) { /* the tangential rows: + C0 uprev */
+    Vec                t;
+    const PetscScalar *tv;
+    PetscScalar       *rv;
+    PetscInt           lo, hi;
+    PetscCall(VecDuplicate(kkt->r, &t));
+    PetscCall(MatMult(kkt->C0, uprev, t));
+    PetscCall(VecGetOwnershipRange(t, &lo, &hi));
+    PetscCall(VecGetArrayRead(t, &tv));
+    PetscCall(VecGetArray(kkt->r, &rv));
+    for (PetscInt j = lo; j < hi; j++)
+      if (kkt->partner[j] >= 0) rv[j - lo] += tv[j - lo];
+    PetscCall(VecRestoreArray(kkt->r, &rv));
+    PetscCall(VecRestoreArrayRead(t, &tv));
+    PetscCall(VecDestroy(&t));
+  }
+  PetscCall(VecDuplicate(kkt->f, &fk)); /* the u rows: f, augmented f + g C^T r */
+  PetscCall(VecCopy(kkt->f, fk));
+  if (kkt->gamma > 0) {
+    Vec dk;
+    PetscCall(VecDuplicate(fk, &dk));
+    PetscCall(MatMultTranspose(kkt->C, kkt->r, dk));
+    PetscCall(VecAXPY(fk, kkt->gamma, dk));
+    PetscCall(VecDestroy(&dk));
+  }
+  PetscCall(VecISCopy(kkt->b, kkt->isu, SCATTER_FORWARD, fk));
+  PetscCall(VecISCopy(kkt->b, kkt->isl, SCATTER_FORWARD, kkt->r));
   PetscCall(VecDestroy(&fk));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scale)
+/* the slipping rows' parts: CA += scale diag(s) P, Z(j, p) = (scale / c) s_j */
+static PetscErrorCode SetSlipRows(M2dKKT *kkt, Vec slip, PetscReal c, PetscReal scale)
+{
+  const PetscScalar *sv;
+  PetscInt           lo, hi;
+  Mat                Ps;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatDuplicate(kkt->P, MAT_COPY_VALUES, &Ps));
+  PetscCall(MatDiagonalScale(Ps, slip, NULL));
+  PetscCall(MatAXPY(kkt->CA, scale, Ps, SAME_NONZERO_PATTERN));
+  PetscCall(MatDestroy(&Ps));
+  PetscCall(VecGetOwnershipRange(slip, &lo, &hi));
+  PetscCall(VecGetArrayRead(slip, &sv));
+  for (PetscInt j = lo; j < hi; j++)
+    if (kkt->partner[j] >= 0) PetscCall(MatSetValue(kkt->Z, j, kkt->partner[j], scale / c * PetscRealPart(sv[j - lo]), INSERT_VALUES));
+  PetscCall(VecRestoreArrayRead(slip, &sv));
+  PetscCall(MatAssemblyBegin(kkt->Z, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(kkt->Z, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, Vec slip, PetscReal c, PetscReal scale)
 {
   const PetscScalar *a;
   PetscInt           lo, hi, n = 0, *rows;
@@ -191,15 +265,16 @@ PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scal
   PetscCall(MatDiagonalSet(kkt->Z, zd, INSERT_VALUES));
   PetscCall(VecDestroy(&zd));
   PetscCall(PetscFree(rows));
-  if (kkt->gamma > 0) {
+  if (kkt->gamma > 0) { /* the augmentation: the constraint rows only */
     PetscCall(MatTransposeMatMult(kkt->CA, kkt->CA, MAT_REUSE_MATRIX, PETSC_DEFAULT, &kkt->CtCA));
     PetscCall(MatZeroEntries(kkt->Kblk));
     PetscCall(MatAXPY(kkt->Kblk, 1.0, kkt->K, SUBSET_NONZERO_PATTERN));
     PetscCall(MatAXPY(kkt->Kblk, kkt->gamma / (scale * scale), kkt->CtCA, SUBSET_NONZERO_PATTERN));
   }
+  if (kkt->partner && slip) PetscCall(SetSlipRows(kkt, slip, c, scale));
   PetscCall(MatAssemblyBegin(kkt->nest, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(kkt->nest, MAT_FINAL_ASSEMBLY));
-  if (kkt->aij && kkt->gamma == 0) {
+  if (kkt->aij && kkt->gamma == 0 && !kkt->partner) {
     /* update the monolithic matrix in place: a MatConvert would change its
      * nonzero state on several ranks and make MUMPS redo its analysis */
     const PetscInt    *il;
@@ -227,7 +302,7 @@ PetscErrorCode KKTSetActive(M2dKKT *kkt, Vec active, PetscReal c, PetscReal scal
     PetscCall(MatSetOption(kkt->A, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
     PetscCall(MatZeroRows(kkt->A, na, rowsA, -scale / c, NULL, NULL));
     PetscCall(PetscFree(rowsA));
-  } else if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_REUSE_MATRIX, &kkt->A));
+  } else if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_REUSE_MATRIX, &kkt->A)); /* friction: the slip rows' couplings come from the blocks */
   PetscFunctionReturn(0);
 }
 
@@ -264,6 +339,10 @@ PetscErrorCode KKTDestroy(M2dKKT *kkt)
 {
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&kkt->C));
+  PetscCall(MatDestroy(&kkt->C0));
+  PetscCall(MatDestroy(&kkt->P));
+  PetscCall(VecDestroy(&kkt->g0));
+  PetscCall(PetscFree(kkt->partner));
   PetscCall(MatDestroy(&kkt->CA));
   PetscCall(MatDestroy(&kkt->A0));
   PetscCall(MatDestroy(&kkt->CtCA));

@@ -189,8 +189,35 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   PetscFunctionReturn(0);
 }
 
+/* keep load step k's answer (a history of several) */
+static PetscErrorCode KeepStep(const M2dProblem *pb, M2dSolution *sol, PetscInt k, PetscInt stage, PetscInt step, PetscInt its)
+{
+  M2dLoadStep *ls = &sol->steps[k];
+  Vec         *to[5] = {&ls->u, &ls->lam, &ls->active, &ls->slip, &ls->r};
+  Vec          from[5] = {sol->u, sol->lam, sol->active, sol->slip, pb->has_contact ? pb->kkt.r : NULL};
+
+  PetscFunctionBeginUser;
+  ls->stage      = stage;
+  ls->step       = step;
+  ls->time       = stage + (PetscReal)step / (PetscReal)pb->s.stage_steps[stage];
+  ls->iterations = its;
+  for (int i = 0; i < 5; i++)
+    if (from[i]) {
+      PetscCall(VecDuplicate(from[i], to[i]));
+      PetscCall(VecCopy(from[i], *to[i]));
+    }
+  PetscFunctionReturn(0);
+}
+
+/* the load history: every step of every stage (one step: the scene's loads
+ * as assembled), each from the last one's answer; the active set's solver
+ * (its factorization) is made once for all of them */
 PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *sol)
 {
+  M2dActiveSet  *as = NULL;
+  PetscInt       n  = SceneLoadSteps(&pb->s), k = 0, its = 0;
+  PetscErrorCode ierr = 0;
+
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(sol, sizeof(*sol)));
   sol->path = path;
@@ -199,14 +226,32 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *s
   if (pb->has_contact) {
     PetscCall(VecDuplicate(pb->kkt.r, &sol->lam));
     PetscCall(VecDuplicate(pb->kkt.r, &sol->active));
+    if (pb->kkt.partner) {
+      PetscCall(VecDuplicate(pb->kkt.r, &sol->slip));
+      PetscCall(VecZeroEntries(sol->slip));
+    }
   }
-  if (path == M2D_PATH_LINEAR || path == M2D_PATH_TIED) {
-    PetscCall(SolveLinear(pb, sol));
-    sol->ksp_its_max = sol->ksp_its;
-  } else {
-    PetscCall(ActiveSetSolve(pb, path, sol->u, sol->lam, sol->active, &sol->as));
-    sol->ksp_its_max = sol->as.ksp_its_max;
-  }
+  if (n > 1) PetscCall(PetscCalloc1(n, &sol->steps));
+  for (PetscInt stage = 0; stage < pb->s.nstage && !ierr; stage++)
+    for (PetscInt step = 1; step <= pb->s.stage_steps[stage] && !ierr; step++, k++) {
+      if (n > 1) {
+        PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->f), "load step %" PetscInt_FMT " of %" PetscInt_FMT " (stage %" PetscInt_FMT ", %" PetscInt_FMT "/%" PetscInt_FMT ")\n", k + 1, n, stage + 1, step, pb->s.stage_steps[stage]));
+        PetscCall(ProblemSetLoad(pb, stage, step));
+        if (pb->has_contact) PetscCall(KKTSetLoad(&pb->kkt, pb->ubc, k ? sol->u : NULL));
+      }
+      if (!as && path != M2D_PATH_LINEAR && path != M2D_PATH_TIED) ierr = M2dActiveSetCreate(pb, path, &as); /* the factorization condenses the first step's load */
+      if (ierr) break;
+      if (as) {
+        its  = sol->as.iterations;
+        ierr = M2dActiveSetStep(as, sol->u, sol->lam, sol->active, sol->slip, &sol->as);
+        its  = sol->as.iterations - its;
+      } else ierr = SolveLinear(pb, sol);
+      if (!ierr && n > 1) ierr = KeepStep(pb, sol, k, stage, step, its);
+    }
+  sol->nstep = k;
+  PetscCall(M2dActiveSetDestroy(&as, &sol->as)); /* also after an error: it holds the factorization */
+  PetscCall(ierr);
+  sol->ksp_its_max = path == M2D_PATH_LINEAR || path == M2D_PATH_TIED ? sol->ksp_its : sol->as.ksp_its_max;
   PetscFunctionReturn(0);
 }
 
@@ -230,6 +275,17 @@ PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s)
 PetscErrorCode M2dSolutionDestroy(M2dSolution *sol)
 {
   PetscFunctionBeginUser;
+  for (PetscInt k = 0; sol->steps && k < sol->nstep; k++) {
+    M2dLoadStep *ls = &sol->steps[k];
+    PetscCall(VecDestroy(&ls->u));
+    PetscCall(VecDestroy(&ls->lam));
+    PetscCall(VecDestroy(&ls->active));
+    PetscCall(VecDestroy(&ls->slip));
+    PetscCall(VecDestroy(&ls->r));
+    PetscCall(PetscFree(ls->nodes));
+  }
+  PetscCall(PetscFree(sol->steps));
+  PetscCall(VecDestroy(&sol->slip));
   PetscCall(VecDestroy(&sol->u));
   PetscCall(VecDestroy(&sol->lam));
   PetscCall(VecDestroy(&sol->active));

@@ -24,32 +24,64 @@ static PetscErrorCode Equilibrium(const M2dProblem *pb, const M2dSolution *sol, 
   PetscFunctionReturn(0);
 }
 
-/* max over the multipliers of -lambda, -gap and |lambda gap| (reference units) */
-static PetscErrorCode Complementarity(const M2dProblem *pb, const M2dSolution *sol, PetscReal *worst)
+/* the rows' lambda, r - C u (weighted gaps, weighted slips) and rules, whole, on every rank */
+static PetscErrorCode GatherRows(const M2dProblem *pb, const M2dSolution *sol, Vec all[3])
 {
-  const M2dKKT      *kkt = &pb->kkt;
-  Vec                gm;
-  const PetscScalar *l, *g;
-  PetscInt           lo, hi;
-  PetscReal          w = 0;
+  const M2dKKT *kkt = &pb->kkt;
+  Vec           gw, from[3];
+  VecScatter    sc;
 
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(kkt->r, &gm));
-  PetscCall(MatMult(kkt->C, sol->u, gm)); /* C u - r = -g~ */
-  PetscCall(VecAXPY(gm, -1.0, kkt->r));
-  PetscCall(VecGetOwnershipRange(gm, &lo, &hi));
-  PetscCall(VecGetArrayRead(sol->lam, &l));
-  PetscCall(VecGetArrayRead(gm, &g));
-  for (PetscInt j = lo; j < hi; j++) {
-    PetscReal lam = PetscRealPart(l[j - lo]), gap = -PetscRealPart(g[j - lo]) / pb->contact.R.w[j];
-    PetscReal c = PetscMax(PetscMax(-lam, -gap), PetscAbsReal(lam * gap));
-    if (PetscIsInfOrNanReal(c)) c = PETSC_INFINITY;
-    w = PetscMax(w, c);
+  PetscCall(VecDuplicate(kkt->r, &gw));
+  PetscCall(MatMult(kkt->C, sol->u, gw));
+  PetscCall(VecAYPX(gw, -1.0, kkt->r));
+  from[0] = sol->lam, from[1] = gw, from[2] = sol->active;
+  PetscCall(VecScatterCreateToAll(sol->lam, &sc, &all[0]));
+  for (int k = 0; k < 3; k++) {
+    if (k) PetscCall(VecDuplicate(all[0], &all[k]));
+    PetscCall(VecScatterBegin(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(sc, from[k], all[k], INSERT_VALUES, SCATTER_FORWARD));
   }
-  PetscCall(VecRestoreArrayRead(gm, &g));
-  PetscCall(VecRestoreArrayRead(sol->lam, &l));
-  PetscCall(VecDestroy(&gm));
-  PetscCallMPI(MPI_Allreduce(&w, worst, 1, MPIU_REAL, MPIU_MAX, PetscObjectComm((PetscObject)sol->u)));
+  PetscCall(VecScatterDestroy(&sc));
+  PetscCall(VecDestroy(&gw));
+  PetscFunctionReturn(0);
+}
+
+/* The contact conditions at every node (every rank the same, reference
+ * units): the normal rows' max of -lambda, -gap and |lambda gap|; the
+ * tangential rows' largest violation of Coulomb's law (verify.h) */
+static PetscErrorCode ContactChecks(const M2dProblem *pb, const M2dSolution *sol, PetscReal *worst, PetscReal *coulomb)
+{
+  const M2dContact  *ct = &pb->contact;
+  const PetscScalar *l, *g, *a;
+  Vec                all[3];
+  PetscReal          w = 0, cw = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(GatherRows(pb, sol, all));
+  PetscCall(VecGetArrayRead(all[0], &l));
+  PetscCall(VecGetArrayRead(all[1], &g));
+  PetscCall(VecGetArrayRead(all[2], &a));
+  for (PetscInt j = 0; j < ct->R.n; j++) {
+    PetscInt  p   = ct->partner[j];
+    PetscReal lam = PetscRealPart(l[j]), gap = PetscRealPart(g[j]) / ct->R.w[j], c;
+    if (p < 0) c = PetscMax(PetscMax(-lam, -gap), PetscAbsReal(lam * gap));
+    else {
+      PetscReal bound = ct->pair[ct->rowpair[j]].mu * PetscRealPart(l[p]);
+      if (PetscRealPart(a[p]) == 0) c = PetscAbsReal(lam);                                           /* open */
+      else if (PetscRealPart(a[j]) != 0) c = PetscMax(PetscAbsReal(lam) - bound, PetscAbsReal(gap)); /* stick: within the cone, no slip */
+      else c = PetscMax(PetscAbsReal(PetscAbsReal(lam) - bound), lam * gap);                          /* slip: on the cone, against the slip */
+    }
+    if (PetscIsInfOrNanReal(c)) c = PETSC_INFINITY;
+    if (p < 0) w = PetscMax(w, c);
+    else cw = PetscMax(cw, c);
+  }
+  PetscCall(VecRestoreArrayRead(all[2], &a));
+  PetscCall(VecRestoreArrayRead(all[1], &g));
+  PetscCall(VecRestoreArrayRead(all[0], &l));
+  for (int k = 0; k < 3; k++) PetscCall(VecDestroy(&all[k]));
+  *worst   = w;
+  *coulomb = cw;
   PetscFunctionReturn(0);
 }
 
@@ -61,9 +93,10 @@ PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2d
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_VERIFY], 0, 0, 0, 0));
   PetscCall(PetscMemzero(v, sizeof(*v)));
   PetscCall(Equilibrium(pb, sol, &v->residual_rel));
-  if (sol->path == M2D_PATH_CONDENSED || sol->path == M2D_PATH_FULL) PetscCall(Complementarity(pb, sol, &v->complementarity));
+  if (sol->path == M2D_PATH_CONDENSED || sol->path == M2D_PATH_FULL) PetscCall(ContactChecks(pb, sol, &v->complementarity, &v->coulomb));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_VERIFY], 0, 0, 0, 0));
-  PetscCall(PetscPrintf(comm, "checks: equilibrium |K u + C^T lambda - f| / |f| = %.3e, complementarity %.3e (tolerance %.0e)\n", (double)v->residual_rel, (double)v->complementarity, M2D_VERIFY_TOL));
+  if (sol->slip) PetscCall(PetscPrintf(comm, "checks: equilibrium |K u + C^T lambda - f| / |f| = %.3e, complementarity %.3e, Coulomb %.3e (tolerance %.0e)\n", (double)v->residual_rel, (double)v->complementarity, (double)v->coulomb, M2D_VERIFY_TOL));
+  else PetscCall(PetscPrintf(comm, "checks: equilibrium |K u + C^T lambda - f| / |f| = %.3e, complementarity %.3e (tolerance %.0e)\n", (double)v->residual_rel, (double)v->complementarity, M2D_VERIFY_TOL));
   if (v->residual_rel > M2D_VERIFY_TOL) {
     const M2dScene *s = &pb->s;
     PetscInt        soft, stiff;
@@ -74,6 +107,7 @@ PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2d
     PetscCheck(s->body[stiff].E <= 1e6 * s->body[soft].E, comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: |K u + C^T lambda - f| = %.3e of |f| (tolerance %.0e); the moduli of '%s' and '%s' differ by a factor %.1e and round-off swamps the stiffer body's strains: bring -%s_E within 1e6 of -%s_E (a body a million times stiffer is rigid for the other)", (double)v->residual_rel, M2D_VERIFY_TOL, s->body[soft].name, s->body[stiff].name, (double)(s->body[stiff].E / s->body[soft].E), s->body[soft].name, s->body[stiff].name);
     SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: |K u + C^T lambda - f| = %.3e of |f| (tolerance %.0e); the linear solves lost accuracy (try -kkt_path full or a better-conditioned scene: check E, nu and the supports)", (double)v->residual_rel, M2D_VERIFY_TOL);
   }
+  PetscCheck(v->coulomb <= M2D_VERIFY_TOL, comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its friction check: Coulomb's law is violated by %.3e of the load at a contact node (tolerance %.0e: a friction force beyond MU x the pressure, a sticking node that slipped, or a slip along its friction force); the active set did not settle (raise -snes_max_it or check -contact_c)", (double)v->coulomb, M2D_VERIFY_TOL);
   PetscCheck(v->complementarity <= M2D_VERIFY_TOL, comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its contact check: complementarity %.3e of the load (tolerance %.0e: a negative pressure, a penetration or both at one node); the active set did not settle (raise -snes_max_it or check -contact_c)", (double)v->complementarity, M2D_VERIFY_TOL);
   PetscFunctionReturn(0);
 }
