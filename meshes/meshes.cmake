@@ -72,4 +72,8 @@ m2d_mesh(patch_pen patch_uniform.geo gap -0.01)
 foreach(l 1 2)
   m2d_mesh(hertz_two_${l} hertz_two.geo level ${l})
 endforeach()
+# indenter: a stiff rounded indenter on a rubber block on a base plate, two pairs
+foreach(l 0 1 2)
+  m2d_mesh(indenter_${l} indenter.geo level ${l})
+endforeach()
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})
