@@ -257,6 +257,8 @@ static PetscErrorCode GoalIndicators(M2dProblem *pb, M2dSolution *sol, const M2d
     for (PetscInt c = 0; c < nlc; c++) g[c] = PetscSqrtReal(wg * PetscSqr(g[c]) / PetscMax(s2, PETSC_SMALL) + (1 - wg) * PetscSqr(eta[c]) / PetscMax(e2, PETSC_SMALL));
     eg.estimate = 1;
   }
+  for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 3] = g[c];
+  fig->size_est = eg;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   PetscCall(M2dSizeField(comm, nlc, h, g, &eg, &eo->size, hn, &fig->expected_cells));
   PetscCall(PetscFree3(az, g, h));
@@ -287,7 +289,11 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = av[c] * scale;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) PetscCall(GoalIndicators(pb, sol, eo, a, fig, hn));
-  else PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  else {
+    for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 3] = a[c];
+    fig->size_est = *est;
+    PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  }
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) nexp = fig->expected_cells;
   for (PetscInt c = 0; c < nlc; c++) {
     sol->eta[M2D_ETA_FIELDS * c]     = a[c] * scale;
@@ -412,8 +418,8 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
   for (int k = 0; nodal && k < M2D_NODAL_FIELDS; k++) fs.point[fs.npoint++] = (M2dPointField){nname[k], NULL, PETSC_FALSE, k, nodal, M2D_NODAL_FIELDS};
   for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
   if (sol->eta) {
-    const char *ename[M2D_ETA_FIELDS] = {"error_indicator", "error_indicator_volume", "size_factor"};
-    for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
+    const char *ename[M2D_ETA_WRITTEN] = {"error_indicator", "error_indicator_volume", "size_factor"};
+    for (int k = 0; k < M2D_ETA_WRITTEN; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
   PetscCall(OutputWriteFields(&pb->mesh, o, &fs));
   PetscCall(VecDestroy(&afield));
