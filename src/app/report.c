@@ -1,5 +1,6 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
+#include "about.h"
 #include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
@@ -20,6 +21,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pb->mesh.dm), &size));
   SummaryString(sum, "", "program", "mortar2d");
+  M2dSummaryVersions(sum); /* version, git_commit, petsc_version (about.h) */
   SummaryString(sum, "", "run_id", pb->user->out.run_id);
   SummaryString(sum, "", "status", "ok"); /* written only by a run that got this far (else OutputWriteFailure's) */
   SummaryInt(sum, "", "dofs", 2 * pb->mesh.nvert_global);
