@@ -747,7 +747,8 @@ static PetscErrorCode Floor(PrevMesh *prev, const M2dContact *ct, PetscReal L)
  * against Hertz, 0.6 on 26,496 at 1.4e-3, 0.5 as the fixed growth did.) The
  * next mesh has the dofs that bring the estimate to M2D_ADAPT_AIM x the
  * target at that rate (a mesh that misses the target by 5-20% gets a small
- * step, 1.19-1.5 times its dofs), at least M2D_ADAPT_MIN_GROWTH times the
+ * step: 1.2-1.7 times its dofs at the pressure's rates, 1.5-2.2 at the energy
+ * norm's, which are slower), at least M2D_ADAPT_MIN_GROWTH times the
  * last mesh's, rounded up to steps of 2^(1/8) (the round-off by which 1 and 2
  * ranks differ cannot move it), at most -adapt_growth times, and at most 0.9
  * x the tightest limit: -adapt_max_dofs, the dofs whose time fits what is
