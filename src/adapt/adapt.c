@@ -944,6 +944,28 @@ static PetscErrorCode Decide(MPI_Comm comm, const M2dAdaptOptions *ao, StepRecor
   PetscFunctionReturn(0);
 }
 
+/* The loop's end: why it stopped, the records into the kept mesh's summary,
+ * its files written (-mesh_save: its mesh), and the last line, the whole
+ * loop's time (the files included) and every mesh's dofs. Collective. */
+static PetscErrorCode Finish(MPI_Comm comm, const M2dAdaptOptions *ao, const StepRecord *rec, PetscInt nrec, StopReason why, Limit limit, PetscInt kbest, double t_start, M2dStep *best)
+{
+  char   text[256], list[M2D_ADAPT_MAX_STEPS * 12] = "", save[PETSC_MAX_PATH_LEN];
+  double seconds;
+
+  PetscFunctionBeginUser;
+  StopText(ao, why, limit, rec[nrec - 1].goal, text, sizeof(text));
+  PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " mesh%s: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, nrec > 1 ? "es" : "", text, kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
+  PetscCall(WriteRecords(best->sum, nrec, rec, why, limit, kbest));
+  PetscCall(M2dSummaryReal(best->sum, "", "adapt_seconds", M2dWallTime() - t_start));
+  PetscCall(MeshReadOptions(comm, save, sizeof(save)));
+  PetscCall(M2dStepWrite(best, save));
+  seconds = M2dWallTime() - t_start;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
+  for (PetscInt k = 0; k < nrec; k++) PetscCall(PetscSNPrintf(list + strlen(list), sizeof(list) - strlen(list), "%s%" PetscInt_FMT, k ? ", " : "", rec[k].dofs));
+  PetscCall(PetscPrintf(comm, "adapt: %.3f s in all, %" PetscInt_FMT " mesh%s of %s dofs; the results written are step %" PetscInt_FMT "'s\n", seconds, nrec, nrec > 1 ? "es" : "", list, kbest));
+  PetscFunctionReturn(0);
+}
+
 /* Run the loop (adapt.h). The meshes' sizes come from the latest mesh and
  * its plan (NextDofs), the results written are those of the mesh with the
  * smallest estimate (or the last: -adapt_keep); the loop says why it stopped
@@ -954,7 +976,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
   M2dStep             st, best; /* the latest mesh's step, the best one's (may be the same) */
   StepRecord          rec[M2D_ADAPT_MAX_STEPS];
   PetscInt            nrec = 0, kbest = -1;
-  char                what[PETSC_MAX_PATH_LEN + 64], text[256], list[M2D_ADAPT_MAX_STEPS * 12] = "";
+  char                what[PETSC_MAX_PATH_LEN + 64];
   double              ratio = 1.3; /* gmsh's cells per asked cell (rank 0): learnt from each remeshing */
   M2dEstimatorOptions eo = *eo_in;
   StopReason          why = STOP_NONE;
@@ -963,7 +985,6 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
   PetscReal           est, est_min = 0;
   PetscBool           have_best = PETSC_FALSE, st_is_best = PETSC_FALSE;
   PetscErrorCode      ierr = 0;
-  char                save[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCheck(eo.enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
@@ -1032,21 +1053,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
       st_is_best = PETSC_TRUE;
     }
   }
-  if (!ierr) {
-    Limit limit = why == STOP_FIT ? plan.capby : plan.limit;
-    StopText(ao, why, limit, rec[nrec - 1].goal, text, sizeof(text));
-    PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " mesh%s: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, nrec > 1 ? "es" : "", text, kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
-    PetscCall(WriteRecords(best.sum, nrec, rec, why, limit, kbest));
-    PetscCall(M2dSummaryReal(best.sum, "", "adapt_seconds", M2dWallTime() - budget.t_start));
-    ierr = MeshReadOptions(comm, save, sizeof(save)); /* -mesh_save: the mesh of the results written */
-    if (!ierr) ierr = M2dStepWrite(&best, save);
-  }
-  if (!ierr) { /* the last line: the whole loop, the files included */
-    double seconds = M2dWallTime() - budget.t_start;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
-    for (PetscInt k = 0; k < nrec; k++) PetscCall(PetscSNPrintf(list + strlen(list), sizeof(list) - strlen(list), "%s%" PetscInt_FMT, k ? ", " : "", rec[k].dofs));
-    PetscCall(PetscPrintf(comm, "adapt: %.3f s in all, %" PetscInt_FMT " mesh%s of %s dofs; the results written are step %" PetscInt_FMT "'s\n", seconds, nrec, nrec > 1 ? "es" : "", list, kbest));
-  }
+  if (!ierr) ierr = Finish(comm, ao, rec, nrec, why, why == STOP_FIT ? plan.capby : plan.limit, kbest, budget.t_start, &best);
   if (!st_is_best) PetscCall(M2dStepDestroy(&st));
   if (have_best) PetscCall(M2dStepDestroy(&best));
   PetscCall(ContactStateDestroy(&state));
