@@ -1,7 +1,14 @@
 # Generate the .msh files the options files and tests use, from the .geo sources.
 # m2d_mesh(<output name> <geo> [PARAM VALUE ...]) -> ${CMAKE_BINARY_DIR}/meshes/<name>.msh
+# The .geo sources are copied beside them (the program's -mesh_dir and
+# -geo_dir are one directory next to it: about.h).
 set(M2D_MESH_DIR ${CMAKE_BINARY_DIR}/meshes)
 file(MAKE_DIRECTORY ${M2D_MESH_DIR})
+file(GLOB M2D_GEO_FILES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/meshes/*.geo)
+foreach(geo ${M2D_GEO_FILES})
+  get_filename_component(name ${geo} NAME)
+  configure_file(${geo} ${M2D_MESH_DIR}/${name} COPYONLY)
+endforeach()
 set(M2D_MESHES)
 function(m2d_mesh name geo)
   set(args)
@@ -76,4 +83,26 @@ endforeach()
 foreach(l 0 1 2 3)
   m2d_mesh(cattaneo_${l} cattaneo.geo level ${l})
 endforeach()
+# indenter: a stiff rounded indenter on a rubber block on a base plate, two pairs
+foreach(l 0 1 2)
+  m2d_mesh(indenter_${l} indenter.geo level ${l})
+endforeach()
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})
+
+# the .msh files installed with the scenes (cmake --install): every -mesh an
+# options file names, and the levels the scenes' comments offer
+set(M2D_SHIPPED_MESHES)
+foreach(name block patch_uniform seed_patch stack hertz_0 hertz_1 hertz_2 hertz_3 hertz_4 hertz_two_1 hertz_two_2
+             roller_0 roller_1 roller_2 indenter_0 indenter_1 indenter_2 cattaneo_0 cattaneo_1 cattaneo_2 cattaneo_3)
+  list(APPEND M2D_SHIPPED_MESHES ${M2D_MESH_DIR}/${name}.msh)
+endforeach()
+file(GLOB scenes CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/options/*.opts)
+foreach(scene ${scenes})
+  file(STRINGS ${scene} lines REGEX "^-mesh +[^ ]+\\.msh")
+  foreach(line ${lines})
+    string(REGEX REPLACE "^-mesh +([^ ]+)\\.msh.*" "\\1" name "${line}")
+    if(NOT ${M2D_MESH_DIR}/${name}.msh IN_LIST M2D_SHIPPED_MESHES)
+      message(FATAL_ERROR "${scene} names ${name}.msh, which meshes/meshes.cmake neither makes for install (M2D_SHIPPED_MESHES)")
+    endif()
+  endforeach()
+endforeach()

@@ -2,10 +2,17 @@
 two cylinders of hertz_two and the rounded punch (options/punch.opts), each
 with either body non-mortar. Asserted, on every run:
  1. the same command gives the same meshes and answers (6 runs of Hertz at
-    target 0.04, 2 of hertz_two), and 1 and 2 ranks give the same meshes;
+    target 0.04, 2 of hertz_two; the same arguments each time: on AVX-512
+    machines OpenBLAS rounds the last bits of MUMPS' factors with the
+    alignment of its work arrays, which moves with the arguments' text, and
+    the warm start carries those bits to the next mesh's answer), and 1 and 2
+    ranks give the same meshes;
  2. a tighter target never ends on a worse answer: Hertz at 0.04, 0.01,
-    0.0025 (pressure error against Hertz non-increasing within 10%), and the
-    meshes of a looser target are the first meshes of a tighter one;
+    0.0025 (pressure error against Hertz non-increasing within 10%); each
+    stops at its target or within -adapt_tolerance (5%) above it, and no mesh
+    near the target is followed by a big step (the sizing rule: a mesh whose
+    estimate is within 1.3 times the target is followed by at most 1.6 times
+    its dofs);
  3. the pressure ripple (max deviation of an interior active node from the
     interpolation of its neighbours, over the peak) is at most 1% on every mesh
     with at least 20 active nodes (the punch: 100; its pressure has a kink where
@@ -53,11 +60,11 @@ SWAP = {"hertz": ["-contact_nonmortar", "block_top", "-contact_mortar", "cylinde
 SCENES = {"hertz": HERTZ, "hertz_two": HERTZ_TWO, "punch": PUNCH}
 
 # ---------------------------------------------------------------- 1. the same answer every run
-runs = [adapt("adapt_same_%d" % k, HERTZ + ["-adapt_target", "0.04"]) for k in range(6)]
+runs = [adapt("adapt_same", HERTZ + ["-adapt_target", "0.04"]) for k in range(6)]
 first = runs[0]
 check(all(sequence(s) == sequence(first) and s["pressure_l2_rel"] == first["pressure_l2_rel"] and s["pressure_estimate"] == first["pressure_estimate"] for s in runs),
       "Hertz target 0.04, 6 runs: the same meshes %s and pressure error %.6e every run" % (sequence(first), first["pressure_l2_rel"]))
-two = [adapt("adapt_same_two_%d" % k, HERTZ_TWO + ["-adapt_target", "2e-3"]) for k in range(2)]
+two = [adapt("adapt_same_two", HERTZ_TWO + ["-adapt_target", "2e-3"]) for k in range(2)]
 check(sequence(two[0]) == sequence(two[1]) and two[0]["pressure_l2_rel"] == two[1]["pressure_l2_rel"],
       "hertz_two target 2e-3, 2 runs: the same meshes %s and pressure error %.6e" % (sequence(two[0]), two[0]["pressure_l2_rel"]))
 par = adapt("adapt_same_two_2r", HERTZ_TWO + ["-adapt_target", "2e-3"], ranks=2)
@@ -68,11 +75,12 @@ check(sequence(par) == sequence(two[0]) and d < 1e-8, "hertz_two on 2 ranks: the
 sweep = {t: adapt("adapt_sweep_%s" % t, HERTZ + ["-adapt_target", t]) for t in ("0.04", "0.01", "0.0025")}
 errs = [sweep[t]["pressure_l2_rel"] for t in ("0.04", "0.01", "0.0025")]
 check(errs[1] <= 1.1 * errs[0] and errs[2] <= 1.1 * errs[1], "Hertz targets 0.04, 0.01, 0.0025: pressure errors %s non-increasing (dofs %s)" % (["%.3e" % e for e in errs], [sweep[t]["dofs"] for t in ("0.04", "0.01", "0.0025")]))
-seqs = [sequence(sweep[t]) for t in ("0.04", "0.01", "0.0025")]
-check(all(seqs[k + 1][:len(seqs[k])] == seqs[k] for k in range(2)), "Hertz: the meshes of a looser target are the first of a tighter one %s" % seqs)
 for t in ("0.04", "0.01", "0.0025"):
     s = sweep[t]
-    check(s["adapt_stop"] == "target" and s["pressure_estimate"] <= float(t), "Hertz target %s: stopped at the target, estimated pressure error %.3e (against Hertz %.3e)" % (t, s["pressure_estimate"], s["pressure_l2_rel"]))
+    check(s["adapt_stop"] in ("target", "near_target") and s["pressure_estimate"] <= 1.05 * float(t), "Hertz target %s: stopped at the target (%s), estimated pressure error %.3e (against Hertz %.3e)" % (t, s["adapt_stop"], s["pressure_estimate"], s["pressure_l2_rel"]))
+    steps = s["adapt"]
+    big = [(a["dofs"], a["goal_estimate"], b["dofs"]) for a, b in zip(steps, steps[1:]) if a["goal_estimate"] <= 1.3 * float(t) and b["dofs"] > 1.6 * a["dofs"]]
+    check(not big, "Hertz target %s: no big step near the target %s" % (t, ["%d dofs at %.2e then %d" % x for x in big] or sequence(s)))
 
 # ---------------------------------------------------------------- 3. every scene, either side
 for name, args in SCENES.items():

@@ -7,9 +7,14 @@
  * no file in between), and solve again - starting from the previous contact
  * state carried over by position (the first active set of an adapted mesh is
  * the previous one's), so that after the first mesh the active set settles in
- * a few steps. Stops at -adapt_target (relative estimate), -adapt_max_steps
- * or -adapt_max_dofs. Each step prints one line; the summary's "adapt" list
- * has one object per step and its top-level keys are the final mesh's. */
+ * a few steps. Each next mesh is sized to the target: the dofs that bring
+ * the estimate to 0.9 of it at the convergence rate seen so far (adapt.c,
+ * above NextDofs), at most -adapt_growth times the last mesh's and within
+ * -adapt_max_dofs, -adapt_max_seconds and -adapt_max_memory. Stops at
+ * -adapt_target (relative estimate; or within -adapt_tolerance, 5%, above it),
+ * -adapt_max_steps or a limit. Each step prints one line; the summary's
+ * "adapt" list has one object per step and its top-level keys are the final
+ * mesh's. */
 #ifndef M2D_ADAPT_H
 #define M2D_ADAPT_H
 #include "report.h"
@@ -25,7 +30,10 @@ typedef struct {
   PetscInt  quads;     /* -adapt_quads (M2dRemeshQuads) */
   PetscInt  goal;      /* -adapt_goal: 0 energy, 1 contact */
   PetscReal grading;   /* -adapt_grading: largest growth of the size per element */
-  PetscReal growth;    /* -adapt_growth: dofs of the next mesh over this one's */
+  PetscReal growth;    /* -adapt_growth: the largest ratio of the next mesh's dofs to this one's */
+  PetscReal tolerance;   /* -adapt_tolerance: stop within this fraction above the target */
+  PetscReal max_seconds; /* -adapt_max_seconds: the loop's time (0: none) */
+  PetscReal max_memory;  /* -adapt_max_memory: peak resident MB per rank (0: none) */
   PetscInt  keep_last; /* -adapt_keep: 0 best (the last mesh within 10% of the smallest estimate), 1 last */
   PetscInt  nnumber;   /* -geo_setnumber NAME=VALUE,...: parameters of the .geo */
   char      number_name[M2D_ADAPT_MAX_NUMBERS][64];

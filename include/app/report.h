@@ -10,9 +10,12 @@
 #include "verify.h"
 
 /* per local cell, in sol->eta: the error indicator with the contact terms, the
- * volume part alone (user units, sqrt of an energy per unit thickness), and
- * the size field's h_new / h */
-#define M2D_ETA_FIELDS 3
+ * volume part alone (user units, sqrt of an energy per unit thickness), the
+ * size field's h_new / h (the first M2D_ETA_WRITTEN: cell fields of the
+ * files), and the indicator the size field was made from (with
+ * fig->size_est: the adaptive loop sizes its next mesh again from them) */
+#define M2D_ETA_FIELDS  4
+#define M2D_ETA_WRITTEN 3
 
 typedef struct {
   PetscBool          enabled;  /* -error_estimate */
@@ -31,6 +34,7 @@ typedef struct {
   PetscReal        true_error_rel;  /* -exact: the energy-norm error, relative */
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
+  M2dErrorEstimate size_est;        /* the sums the size field was made from (est, or the goal's) */
   PetscReal        pressure_ripple; /* contact: ContactRipple (contact.h), else -1 */
   PetscInt         ripple_nodes;    /* the interior active nodes it was measured on */
   PetscInt         active_nodes;    /* contact: the active non-mortar nodes */

@@ -10,6 +10,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+
+#define M2D_ADAPT_MIN_GROWTH 1.189207115002721 /* 2^(1/4): the loop's smallest step */
 
 /* whether the .geo text at path, or a file it Includes, has the identifier
  * name outside comments (gmsh ignores a -setnumber of a name the .geo never
@@ -67,7 +70,7 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, const M2dAda
 
   PetscFunctionBeginUser;
   if (s->help) PetscFunctionReturn(0);
-  if (!ao->enabled) PetscCall(M2dOptionsNoEffect(comm, "-adapt_target -adapt_max_steps -adapt_max_dofs -adapt_goal -adapt_grading -adapt_growth -adapt_keep -adapt_quads -geo -geo_setnumber", "without -adapt"));
+  if (!ao->enabled) PetscCall(M2dOptionsNoEffect(comm, "-adapt_target -adapt_tolerance -adapt_max_steps -adapt_max_dofs -adapt_max_seconds -adapt_max_memory -adapt_goal -adapt_grading -adapt_growth -adapt_keep -adapt_quads -geo -geo_setnumber", "without -adapt"));
   if (ao->enabled && ao->goal == 1) PetscCall(M2dOptionsReadLater("dual_")); /* the dual problem's solver, after the primal's */
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &path_given));
   if (ao->enabled && !path_given) {
@@ -100,14 +103,18 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   ao->quads     = M2D_QUADS_SUBDIVIDE;
   ao->grading   = 1.2;
   ao->growth    = 4;
+  ao->tolerance = 0.05;
   PetscOptionsBegin(comm, NULL, "mortar2d: adaptive meshes", "");
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-adapt", "adapt the mesh of the scene's .geo (-geo) to the error estimate", ao->enabled, &ao->enabled));
-  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_target", "stop when the relative error estimate is below this", ao->target, &ao->target, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_target", "stop when the relative estimate is below this; each mesh is sized to reach 0.9 of it (adaptivity.md)", ao->target, &ao->target, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_tolerance", "stop also when the estimate is at most this fraction above the target (0: only below it)", ao->tolerance, &ao->tolerance, NULL));
   PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_steps", "at most this many meshes", ao->max_steps, &ao->max_steps, NULL));
-  PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_dofs", "stop before a mesh would have more dofs than this", ao->max_dofs, &ao->max_dofs, NULL));
+  PetscCall(M2dOptionsInt(PetscOptionsObject, "-adapt_max_dofs", "no mesh has more dofs than this (the next one is made smaller to fit)", ao->max_dofs, &ao->max_dofs, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_max_seconds", "the next mesh is made smaller to end within this many seconds of the loop's start (0: no limit)", ao->max_seconds, &ao->max_seconds, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_max_memory", "the next mesh is made smaller to keep each rank's peak memory below this many MB (0: no limit)", ao->max_memory, &ao->max_memory, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_goal", "what the meshes aim at: energy (energy-norm error) or contact (contact pressure, dual-weighted)", goals, 2, &ao->goal));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_grading", "sizes grow by at most this factor per element (1: no limit)", ao->grading, &ao->grading, NULL));
-  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has about this many times the dofs of the one before (up to the cap)", ao->growth, &ao->growth, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-adapt_growth", "each mesh has at most this many times the dofs of the one before (at least 1.19)", ao->growth, &ao->growth, NULL));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_keep", "the results of: best (the last mesh within 10% of the smallest estimate) or last (the last made)", keeps, 2, &ao->keep_last));
   PetscCall(M2dOptionsEList(PetscOptionsObject, "-adapt_quads", "how gmsh makes quads from the size field: subdivide, fullquad, blossom, simple (faster, big meshes)", quads, 4, &ao->quads));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-geo_setnumber", "parameters of the .geo as NAME=VALUE, comma separated (gmsh's -setnumber); default: none", M2D_ADAPT_MAX_NUMBERS, 0, num, &nnum));
@@ -131,8 +138,10 @@ PetscErrorCode AdaptReadOptions(MPI_Comm comm, const M2dScene *s, M2dAdaptOption
   PetscCheck(ao->target > 0 && ao->target < 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_target: %g must be in (0, 1)", (double)ao->target);
   PetscCheck(ao->max_steps >= 1 && ao->max_steps <= M2D_ADAPT_MAX_STEPS, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_steps: %" PetscInt_FMT " must be in [1, %d]", ao->max_steps, M2D_ADAPT_MAX_STEPS);
   PetscCheck(ao->grading >= 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_grading: %g must be >= 1", (double)ao->grading);
-  PetscCheck(ao->growth > 1 && ao->growth <= 64, comm, PETSC_ERR_USER_INPUT, "option -adapt_growth: %g must be in (1, 64] (the size field refines a cell at most 8 times per mesh)", (double)ao->growth);
+  PetscCheck(ao->growth >= M2D_ADAPT_MIN_GROWTH && ao->growth <= 64, comm, PETSC_ERR_USER_INPUT, "option -adapt_growth: %g must be in [%.4g, 64] (the loop's smallest step; the size field refines a cell at most 8 times per mesh)", (double)ao->growth, M2D_ADAPT_MIN_GROWTH);
   PetscCheck(ao->max_dofs >= 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_dofs: %" PetscInt_FMT " must be >= 1", ao->max_dofs);
+  PetscCheck(ao->tolerance >= 0 && ao->tolerance < 1, comm, PETSC_ERR_USER_INPUT, "option -adapt_tolerance: %g must be in [0, 1)", (double)ao->tolerance);
+  PetscCheck(ao->max_seconds >= 0 && ao->max_memory >= 0, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_%s: %g must be >= 0 (0: no limit)", ao->max_seconds < 0 ? "seconds" : "memory", (double)(ao->max_seconds < 0 ? ao->max_seconds : ao->max_memory));
   PetscCheck(!ao->enabled || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the scene's .geo (-geo FILE)");
   PetscCall(CheckEffect(comm, s, ao));
   PetscFunctionReturn(0);
@@ -571,16 +580,28 @@ static PetscErrorCode Remesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOpt
   PetscFunctionReturn(0);
 }
 
-/* why the loop stopped (the summary's adapt_stop) */
+/* what holds the next mesh's size (Plan) */
+typedef enum {
+  LIMIT_NONE,
+  LIMIT_GROWTH, /* -adapt_growth: far from the target */
+  LIMIT_DOFS,   /* the limits: -adapt_max_dofs, -adapt_max_seconds, -adapt_max_memory */
+  LIMIT_SECONDS,
+  LIMIT_MEMORY
+} Limit;
+static const char *const LimitOption[] = {"", "-adapt_growth", "-adapt_max_dofs", "-adapt_max_seconds", "-adapt_max_memory"};
+
+/* why the loop stopped (the summary's adapt_stop): the target, near it, the
+ * step count, or a limit (limit: which) that holds the mesh while the estimate
+ * no longer falls by 10% (held) or that leaves no room for the next mesh (fit) */
 typedef enum {
   STOP_NONE,
   STOP_TARGET,
+  STOP_NEAR,
   STOP_STEPS,
-  STOP_CAP,
+  STOP_HELD,
   STOP_FIT
 } StopReason;
-static const char *const StopKey[]  = {"", "target", "max_steps", "max_dofs", "max_dofs"};
-static const char *const StopText[] = {"", "the estimate reached -adapt_target", "-adapt_max_steps meshes", "-adapt_max_dofs holds the mesh and the estimate no longer falls by 10%", "the next mesh does not fit under -adapt_max_dofs"};
+static const char *const LimitKey[] = {"", "", "max_dofs", "max_seconds", "max_memory"};
 
 /* The estimate of the goal: the relative energy-norm error, or with
  * -adapt_goal contact the relative L2 error of the contact pressure
@@ -595,10 +616,25 @@ static PetscReal GoalEstimate(const M2dAdaptOptions *ao, const M2dStep *st)
 typedef struct {
   PetscInt  dofs, iterations, ripple_nodes, active_nodes;
   PetscReal estimate, goal, pressure_estimate, pressure_l2_rel, error_rel, effectivity, ripple, seconds, gmsh;
+  PetscReal memory;          /* MB: the largest rank's peak resident memory so far */
+  PetscReal rate, next_dofs; /* the plan made from this step (0: none) */
 } StepRecord;
+
+/* MB: the largest rank's peak resident memory so far (Linux: ru_maxrss in kB) */
+static PetscErrorCode PeakMemory(MPI_Comm comm, PetscReal *mb)
+{
+  struct rusage ru;
+
+  PetscFunctionBeginUser;
+  getrusage(RUSAGE_SELF, &ru);
+  *mb = (PetscReal)ru.ru_maxrss / 1024.0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mb, 1, MPIU_REAL, MPIU_MAX, comm));
+  PetscFunctionReturn(0);
+}
 
 static void Record(StepRecord *r, const M2dAdaptOptions *ao, const M2dStep *st, double seconds, double gmsh)
 {
+  memset(r, 0, sizeof(*r));
   r->dofs            = 2 * st->pb.mesh.nvert_global;
   r->iterations      = st->pb.has_contact ? st->sol.as.iterations : 0;
   r->estimate        = st->fig.est.estimate_rel;
@@ -623,7 +659,13 @@ static void StepLine(MPI_Comm comm, PetscInt k, const StepRecord *r)
   PetscPrintf(comm, "adapt step %" PetscInt_FMT ": %" PetscInt_FMT " dofs, estimated errors: energy %.3e%s%s, %" PetscInt_FMT " active-set steps, %.3f s\n", k, r->dofs, (double)r->estimate, known, contact, r->iterations, r->seconds);
 }
 
-static PetscErrorCode WriteRecords(M2dSummary *sum, PetscInt n, const StepRecord *r, StopReason why, PetscInt best)
+static const char *StopKeyOf(StopReason why, Limit limit)
+{
+  const char *key[] = {"", "target", "near_target", "max_steps"};
+  return why >= STOP_HELD ? LimitKey[limit] : key[why];
+}
+
+static PetscErrorCode WriteRecords(M2dSummary *sum, PetscInt n, const StepRecord *r, StopReason why, Limit limit, PetscInt best)
 {
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < n; k++) {
@@ -639,8 +681,11 @@ static PetscErrorCode WriteRecords(M2dSummary *sum, PetscInt n, const StepRecord
     PetscCall(M2dSummaryListInt(sum, "adapt", k, "iterations", r[k].iterations));
     PetscCall(M2dSummaryListReal(sum, "adapt", k, "seconds", r[k].seconds));
     PetscCall(M2dSummaryListReal(sum, "adapt", k, "seconds_gmsh", r[k].gmsh));
+    PetscCall(M2dSummaryListReal(sum, "adapt", k, "memory_max_rank_mb", r[k].memory));
+    if (r[k].next_dofs > 0) PetscCall(M2dSummaryListReal(sum, "adapt", k, "rate", r[k].rate));
+    if (r[k].next_dofs > 0) PetscCall(M2dSummaryListInt(sum, "adapt", k, "next_dofs", (PetscInt)r[k].next_dofs));
   }
-  PetscCall(M2dSummaryString(sum, "", "adapt_stop", StopKey[why]));
+  PetscCall(M2dSummaryString(sum, "", "adapt_stop", StopKeyOf(why, limit)));
   PetscCall(M2dSummaryInt(sum, "", "adapt_best_step", best));
   PetscFunctionReturn(0);
 }
@@ -690,19 +735,135 @@ static PetscErrorCode Floor(PrevMesh *prev, const M2dContact *ct, PetscReal L)
   PetscFunctionReturn(0);
 }
 
-/* The mesh of step k > 0 from the size field of step st: gathered on rank 0,
+/* The sizing rule. The estimate falls as dofs^-r. r: 0.6 of the slowest rate
+ * seen between two adapted meshes, or before two adapted meshes the rate of
+ * adapted Q4 meshes, 1/2 for the energy norm and 1 for the contact pressure;
+ * clamped to [1/4, 2]. (The first mesh, the .geo's own or -mesh, is not an
+ * adapted one: the step from it measures what adapting gains, not how the
+ * error converges. The rates fall as the meshes refine, to 0.35-0.9 of the
+ * pair's before on the shipped scenes: the slowest, and 0.6 of it, because a
+ * mesh short of the target costs one more mesh, while one past it by a factor
+ * f costs f^1.2 - 1 of its time; 0.75 ended Hertz on 20,708 dofs at 1.7e-3
+ * against Hertz, 0.6 on 26,496 at 1.4e-3, 0.5 as the fixed growth did.) The
+ * next mesh has the dofs that bring the estimate to M2D_ADAPT_AIM x the
+ * target at that rate (a mesh that misses the target by 5-20% gets a small
+ * step: 1.2-1.7 times its dofs at the pressure's rates, 1.5-2.2 at the energy
+ * norm's, which are slower), at least M2D_ADAPT_MIN_GROWTH times the
+ * last mesh's, rounded up to steps of 2^(1/8) (the round-off by which 1 and 2
+ * ranks differ cannot move it), at most -adapt_growth times, and at most 0.9
+ * x the tightest limit: -adapt_max_dofs, the dofs whose time fits what is
+ * left of -adapt_max_seconds and those whose memory fits -adapt_max_memory,
+ * both scaled from the last mesh's as dofs^1.2 (a sparse direct solver's fill
+ * in 2D grows as N log N: 1.2 is above it for the steps the loop takes). */
+#define M2D_ADAPT_AIM         0.9
+#define M2D_ADAPT_RATE_SAFETY 0.6
+#define M2D_ADAPT_COST_POWER  1.2
+
+typedef struct {
+  PetscReal dofs;  /* the next mesh's dofs, asked of the size field */
+  PetscReal cap;   /* no mesh above this (the tightest limit) */
+  PetscReal rate;  /* the rate the size was set with */
+  Limit     limit; /* what holds dofs below the rule's (LIMIT_NONE: nothing) */
+  Limit     capby; /* the limit cap comes from */
+} Plan;
+
+typedef struct {
+  double    t_start; /* the loop's start (M2dWallTime) */
+  PetscReal mem0;    /* MB: the largest rank's peak resident memory then */
+} Budget;
+
+static PetscReal ObservedRate(const M2dAdaptOptions *ao, const StepRecord *r, PetscInt n)
+{
+  PetscReal rate = PETSC_MAX_REAL;
+  for (PetscInt k = 2; k < n; k++)
+    if (r[k].dofs >= 1.1 * r[k - 1].dofs && r[k].goal > 0 && r[k - 1].goal > 0) rate = PetscMin(rate, PetscLogReal(r[k - 1].goal / r[k].goal) / PetscLogReal((PetscReal)r[k].dofs / (PetscReal)r[k - 1].dofs));
+  rate = rate == PETSC_MAX_REAL ? (ao->goal == 1 ? 1.0 : 0.5) : M2D_ADAPT_RATE_SAFETY * rate;
+  return PetscMin(PetscMax(rate, 0.25), 2.0);
+}
+
+/* the dofs whose cost fits `room` where the last mesh, of `dofs`, cost `used`
+ * (seconds, or MB with the `held` dofs of the mesh kept beside it; the next
+ * one will have the last beside it, the mesh kept but for a worse last) */
+static PetscReal FitDofs(PetscReal dofs, PetscBool memory, PetscReal held, PetscReal room, PetscReal used)
+{
+  const PetscReal p = M2D_ADAPT_COST_POWER;
+  PetscReal       c = PetscMax(used, PETSC_SMALL) / (PetscPowReal(dofs, p) + (memory ? PetscPowReal(held, p) : 0));
+  PetscReal       free = room / c - (memory ? PetscPowReal(dofs, p) : 0);
+  return room > 0 && free > 0 ? PetscPowReal(free, 1 / p) : 0;
+}
+
+/* The next mesh's size after the n steps r (the rule above). Collective. */
+static PetscErrorCode NextDofs(MPI_Comm comm, const M2dAdaptOptions *ao, const StepRecord *r, PetscInt n, const Budget *b, Plan *p)
+{
+  const StepRecord *last = &r[n - 1];
+  PetscReal         N    = (PetscReal)last->dofs, g;
+
+  PetscFunctionBeginUser;
+  p->rate  = ObservedRate(ao, r, n);
+  g        = PetscMax(PetscPowReal(last->goal / (M2D_ADAPT_AIM * ao->target), 1 / p->rate), M2D_ADAPT_MIN_GROWTH);
+  g        = PetscPowReal(2.0, PetscCeilReal(8 * PetscLog2Real(g) - 1e-6) / 8);
+  p->limit = LIMIT_NONE;
+  if (g >= ao->growth) {
+    g        = ao->growth;
+    p->limit = LIMIT_GROWTH;
+  }
+  p->cap   = (PetscReal)ao->max_dofs;
+  p->capby = LIMIT_DOFS;
+  if (ao->max_seconds > 0) {
+    double    elapsed = M2dWallTime() - b->t_start;
+    PetscReal fit;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &elapsed, 1, MPI_DOUBLE, MPI_MAX, comm));
+    fit = FitDofs(N, PETSC_FALSE, 0, ao->max_seconds - (PetscReal)elapsed, last->seconds);
+    if (fit < p->cap) p->cap = fit, p->capby = LIMIT_SECONDS;
+  }
+  if (ao->max_memory > 0) {
+    PetscReal fit = FitDofs(N, PETSC_TRUE, n > 1 ? (PetscReal)r[n - 2].dofs : 0, ao->max_memory - b->mem0, last->memory - b->mem0);
+    if (fit < p->cap) p->cap = fit, p->capby = LIMIT_MEMORY;
+  }
+  if (g * N > 0.9 * p->cap) {
+    g        = 0.9 * p->cap / N;
+    p->limit = p->capby;
+  }
+  p->dofs = g * N;
+  PetscFunctionReturn(0);
+}
+
+/* the size field of st again for about `dofs` dofs (cells as on st's mesh):
+ * into st's h_new / h (sol.eta), from the indicators and sums it was made from */
+static PetscErrorCode SizeFor(const M2dEstimatorOptions *eo, M2dStep *st, PetscReal dofs)
+{
+  const M2dMesh     *m    = &st->pb.mesh;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)m->dm);
+  PetscInt           nlc  = m->cEnd - m->cStart;
+  PetscReal         *h, *hn, *ind;
+  M2dSizeFieldParams p = eo->size;
+
+  PetscFunctionBeginUser;
+  p.max_cells = dofs * (PetscReal)m->ncell_global / (2.0 * (PetscReal)m->nvert_global);
+  PetscCall(PetscMalloc3(nlc + 1, &h, nlc + 1, &hn, nlc + 1, &ind));
+  for (PetscInt c = 0; c < nlc; c++) ind[c] = st->sol.eta[M2D_ETA_FIELDS * c + 3];
+  PetscCall(M2dCellSizes(m, h));
+  PetscCall(M2dSizeField(comm, nlc, h, ind, &st->fig.size_est, &p, hn, &st->fig.expected_cells));
+  for (PetscInt c = 0; c < nlc; c++) st->sol.eta[M2D_ETA_FIELDS * c + 2] = hn[c] / h[c];
+  PetscCall(PetscFree3(h, hn, ind));
+  PetscFunctionReturn(0);
+}
+
+/* The mesh of step k > 0 from the size field of step st, made again for the
+ * plan's dofs (SizeFor): gathered on rank 0,
  * floored, balanced across the contact, graded, the mortar side made the finer
  * again where the gradation undid it and graded once more; then every size grown by one
  * factor so that the cells gmsh will make (the field's count times *ratio,
  * gmsh's cells per asked cell at the last remeshing) are those the size field
  * chose (balance and gradation add some); rounded (Quantize), in the .geo's
- * units, remeshed. A mesh past -adapt_max_dofs is made again with every size
+ * units, remeshed. A mesh past the plan's cap is made again with every size
  * grown to fit, at most three times; *fits false if it still does not. */
-static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao, const M2dStep *st, PetscInt k, double *ratio, MshMesh *msh, double *tgmsh, PetscInt *dofs, PetscBool *fits)
+static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOptions *ao, const M2dEstimatorOptions *eo, M2dStep *st, const Plan *plan, PetscInt k, double *ratio, MshMesh *msh, double *tgmsh, PetscInt *dofs, PetscBool *fits)
 {
   PrevMesh prev;
 
   PetscFunctionBeginUser;
+  PetscCall(SizeFor(eo, st, plan->dofs));
   PetscCall(PetscMemzero(&prev, sizeof(prev)));
   PetscCall(GatherPrevMesh(st, &prev));
   if (prev.hcell) { /* rank 0 */
@@ -728,13 +889,13 @@ static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptO
     PetscCall(Remesh(comm, s, ao, &prev, k, msh, &t, dofs));
     *tgmsh += t;
     if (prev.hcell && msh->nquad) *ratio = (double)msh->nquad / FieldCells(&prev);
-    if (*dofs <= ao->max_dofs) {
+    if (*dofs <= plan->cap) {
       *fits = PETSC_TRUE;
       break;
     }
     MshFree(msh);
     if (prev.hcell) { /* the area ratio and 4% more, at least one rounding step */
-      Scale(&prev, PetscMax(PetscSqrtReal(1.04 * (PetscReal)*dofs / (PetscReal)ao->max_dofs), 1.0444));
+      Scale(&prev, PetscMax(PetscSqrtReal(1.04 * (PetscReal)*dofs / plan->cap), 1.0444));
       Quantize(&prev);
     }
   }
@@ -742,11 +903,73 @@ static PetscErrorCode NextMesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptO
   PetscFunctionReturn(0);
 }
 
-/* Run the loop (adapt.h). The meshes' sizes come from the latest mesh, the
- * results written are those of the mesh with the smallest estimate; the loop
- * stops at the target, after -adapt_max_steps meshes, or when a mesh lowers
- * the best estimate by less than 10% (then the cap holds it, or nothing more
- * is gained), and says which. */
+/* the step's line about the next mesh */
+static void PlanLine(MPI_Comm comm, const M2dAdaptOptions *ao, const StepRecord *last, const Plan *p)
+{
+  const char *what = ao->goal == 1 ? "pressure" : "energy";
+  if (p->limit == LIMIT_NONE) PetscPrintf(comm, "adapt: next mesh about %.0f dofs (%.2f times): the %s estimate %.3e falls to 0.9 x the target there at rate %.2f (estimate ~ dofs^-rate)\n", (double)p->dofs, (double)(p->dofs / last->dofs), what, (double)last->goal, (double)p->rate);
+  else PetscPrintf(comm, "adapt: next mesh about %.0f dofs (%.2f times), held by %s (the %s estimate %.3e, rate %.2f)\n", (double)p->dofs, (double)(p->dofs / last->dofs), LimitOption[p->limit], what, (double)last->goal, (double)p->rate);
+}
+
+static void StopText(const M2dAdaptOptions *ao, StopReason why, Limit limit, PetscReal est, char *text, size_t len)
+{
+  if (why == STOP_TARGET) PetscSNPrintf(text, len, "the estimate reached -adapt_target");
+  else if (why == STOP_NEAR) PetscSNPrintf(text, len, "the estimate is within %.1f%% of the target (-adapt_tolerance %g)", (double)(100 * (est / ao->target - 1)), (double)ao->tolerance);
+  else if (why == STOP_STEPS) PetscSNPrintf(text, len, "-adapt_max_steps meshes");
+  else if (why == STOP_HELD) PetscSNPrintf(text, len, "%s holds the mesh and the estimate no longer falls by 10%%", LimitOption[limit]);
+  else PetscSNPrintf(text, len, "the next mesh does not fit under %s", LimitOption[limit]);
+}
+
+/* After step k (its record r[n - 1]): why the loop stops, or the plan of the
+ * next mesh. A limit holds the loop when it holds the next mesh and this one
+ * lowered the best estimate by less than 10% (nothing more is gained), or
+ * when not even a mesh of this one's size fits in the time or memory left. */
+static PetscErrorCode Decide(MPI_Comm comm, const M2dAdaptOptions *ao, StepRecord *r, PetscInt n, PetscInt k, const Budget *b, PetscBool have_best, PetscReal est_min, Plan *plan, StopReason *why)
+{
+  PetscReal est = r[n - 1].goal;
+
+  PetscFunctionBeginUser;
+  *why = STOP_NONE;
+  if (est <= ao->target) *why = STOP_TARGET;
+  else if (est <= (1 + ao->tolerance) * ao->target) *why = STOP_NEAR;
+  else if (k + 1 >= ao->max_steps) *why = STOP_STEPS;
+  if (*why != STOP_NONE) PetscFunctionReturn(0);
+  PetscCall(NextDofs(comm, ao, r, n, b, plan));
+  if (plan->cap < r[n - 1].dofs && plan->capby != LIMIT_DOFS) *why = STOP_FIT;
+  else if (plan->limit >= LIMIT_DOFS && have_best && est > 0.9 * est_min) *why = STOP_HELD;
+  if (*why != STOP_NONE) PetscFunctionReturn(0);
+  r[n - 1].rate      = plan->rate;
+  r[n - 1].next_dofs = plan->dofs;
+  PlanLine(comm, ao, &r[n - 1], plan);
+  PetscFunctionReturn(0);
+}
+
+/* The loop's end: why it stopped, the records into the kept mesh's summary,
+ * its files written (-mesh_save: its mesh), and the last line, the whole
+ * loop's time (the files included) and every mesh's dofs. Collective. */
+static PetscErrorCode Finish(MPI_Comm comm, const M2dAdaptOptions *ao, const StepRecord *rec, PetscInt nrec, StopReason why, Limit limit, PetscInt kbest, double t_start, M2dStep *best)
+{
+  char   text[256], list[M2D_ADAPT_MAX_STEPS * 12] = "", save[PETSC_MAX_PATH_LEN];
+  double seconds;
+
+  PetscFunctionBeginUser;
+  StopText(ao, why, limit, rec[nrec - 1].goal, text, sizeof(text));
+  PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " mesh%s: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, nrec > 1 ? "es" : "", text, kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
+  PetscCall(WriteRecords(best->sum, nrec, rec, why, limit, kbest));
+  PetscCall(M2dSummaryReal(best->sum, "", "adapt_seconds", M2dWallTime() - t_start));
+  PetscCall(MeshReadOptions(comm, save, sizeof(save)));
+  PetscCall(M2dStepWrite(best, save));
+  seconds = M2dWallTime() - t_start;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
+  for (PetscInt k = 0; k < nrec; k++) PetscCall(PetscSNPrintf(list + strlen(list), sizeof(list) - strlen(list), "%s%" PetscInt_FMT, k ? ", " : "", rec[k].dofs));
+  PetscCall(PetscPrintf(comm, "adapt: %.3f s in all, %" PetscInt_FMT " mesh%s of %s dofs; the results written are step %" PetscInt_FMT "'s\n", seconds, nrec, nrec > 1 ? "es" : "", list, kbest));
+  PetscFunctionReturn(0);
+}
+
+/* Run the loop (adapt.h). The meshes' sizes come from the latest mesh and
+ * its plan (NextDofs), the results written are those of the mesh with the
+ * smallest estimate (or the last: -adapt_keep); the loop says why it stopped
+ * (Decide) and, last, its time and the meshes' dofs. */
 PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, const M2dEstimatorOptions *eo_in)
 {
   M2dContactState     state, *warm = NULL;
@@ -754,23 +977,27 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
   StepRecord          rec[M2D_ADAPT_MAX_STEPS];
   PetscInt            nrec = 0, kbest = -1;
   char                what[PETSC_MAX_PATH_LEN + 64];
-  double              t_start = M2dWallTime(), ratio = 1.3; /* gmsh's cells per asked cell (rank 0): learnt from each remeshing */
+  double              ratio = 1.3; /* gmsh's cells per asked cell (rank 0): learnt from each remeshing */
   M2dEstimatorOptions eo = *eo_in;
   StopReason          why = STOP_NONE;
+  Plan                plan;
+  Budget              budget;
   PetscReal           est, est_min = 0;
   PetscBool           have_best = PETSC_FALSE, st_is_best = PETSC_FALSE;
   PetscErrorCode      ierr = 0;
-  char                save[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCheck(eo.enabled, comm, PETSC_ERR_USER_INPUT, "option -adapt: needs the error estimate (-error_estimate 1)");
-  /* the next mesh's size field: growth x this mesh's dofs, at most 0.9 x the
-   * cap (gmsh's count varies), the error equidistributed over them (estimator.h);
-   * the target only stops the loop, so a tighter target follows the same meshes
-   * further and never ends on a worse one */
+  budget.t_start = M2dWallTime();
+  PetscCall(PeakMemory(comm, &budget.mem0));
+  /* each mesh's own size field (written as size_factor) at the largest step,
+   * -adapt_growth times its dofs, at most 0.9 x the cap (gmsh's count
+   * varies), the error equidistributed over them (estimator.h); the loop
+   * makes it again for its plan's dofs (SizeFor) */
   eo.size.target_rel = 1e-12;
   eo.max_dofs        = 0.9 * (PetscReal)ao->max_dofs;
   eo.growth          = ao->growth;
+  PetscCall(PetscMemzero(&plan, sizeof(plan)));
   PetscCall(PetscMemzero(&state, sizeof(state)));
   PetscCall(PetscMemzero(&st, sizeof(st)));
   for (PetscInt k = 0; !ierr && why == STOP_NONE; k++) {
@@ -784,7 +1011,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
       if (dofs > ao->max_dofs) MshFree(&msh);
       PetscCheck(dofs <= ao->max_dofs, comm, PETSC_ERR_USER_INPUT, "option -adapt_max_dofs: the first mesh, the .geo's own ('%s'), has %" PetscInt_FMT " dofs, more than the cap %" PetscInt_FMT ": coarsen it (its parameters: -geo_setnumber) or raise the cap", s->geo, dofs, ao->max_dofs);
     } else if (k > 0) {
-      ierr = NextMesh(comm, s, ao, &st, k, &ratio, &msh, &tgmsh, &dofs, &fits);
+      ierr = NextMesh(comm, s, ao, &eo, &st, &plan, k, &ratio, &msh, &tgmsh, &dofs, &fits);
       if (ierr || !fits) { /* keep the results so far */
         if (!ierr) why = STOP_FIT;
         break;
@@ -810,11 +1037,10 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
     seconds = M2dWallTime() - t0;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
     Record(&rec[nrec], ao, &st, seconds, tgmsh);
+    PetscCall(PeakMemory(comm, &rec[nrec].memory));
     StepLine(comm, k, &rec[nrec++]);
     est = GoalEstimate(ao, &st);
-    if (est <= ao->target) why = STOP_TARGET;
-    else if (k + 1 >= ao->max_steps) why = STOP_STEPS;
-    else if (have_best && est > 0.9 * est_min && ao->growth * dofs >= eo.max_dofs) why = STOP_CAP; /* held at the cap */
+    PetscCall(Decide(comm, ao, rec, nrec, k, &budget, have_best, est_min, &plan, &why));
     /* the mesh kept: the last one whose estimate is within 10% of the smallest
      * so far (the estimate cannot rank meshes closer than that; the later mesh
      * was made from more information) */
@@ -827,13 +1053,7 @@ PetscErrorCode AdaptRun(MPI_Comm comm, M2dScene *s, const M2dAdaptOptions *ao, c
       st_is_best = PETSC_TRUE;
     }
   }
-  if (!ierr) {
-    PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " meshes: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, StopText[why], kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
-    PetscCall(WriteRecords(best.sum, nrec, rec, why, kbest));
-    PetscCall(M2dSummaryReal(best.sum, "", "adapt_seconds", M2dWallTime() - t_start));
-    ierr = MeshReadOptions(comm, save, sizeof(save)); /* -mesh_save: the mesh of the results written */
-    if (!ierr) ierr = M2dStepWrite(&best, save);
-  }
+  if (!ierr) ierr = Finish(comm, ao, rec, nrec, why, why == STOP_FIT ? plan.capby : plan.limit, kbest, budget.t_start, &best);
   if (!st_is_best) PetscCall(M2dStepDestroy(&st));
   if (have_best) PetscCall(M2dStepDestroy(&best));
   PetscCall(ContactStateDestroy(&state));

@@ -10,6 +10,7 @@
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
 #define _POSIX_C_SOURCE 200809L /* setenv, mkdtemp */
+#include "about.h"
 #include "logging.h"
 #include "optcheck.h"
 #include "optfiles.h"
@@ -28,7 +29,7 @@
 
 static const char help[] = "mortar2d: 2D contact of linear elastic bodies, frictionless or Coulomb (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
-                           "-help: the program's options by job, each with its default; -help_petsc: PETSc's own after them.\n"
+                           "-help: the program's options by job, each with its default; -help_petsc: PETSc's own after them; -version: the program's and PETSc's versions.\n"
                            "The materials -NAME_E, -NAME_nu are listed for the bodies of -bodies: mortar2d -help -bodies lower,upper\n\n";
 
 /* -help: document the per-body and solver options too, print them by job
@@ -156,6 +157,7 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
+  if (M2dVersionRequested(argc, argv)) return 0; /* the program's and PETSc's versions, before MPI starts */
   if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
   SingletonMPIDefaults();

@@ -1,5 +1,6 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
+#include "about.h"
 #include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
@@ -20,6 +21,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pb->mesh.dm), &size));
   SummaryString(sum, "", "program", "mortar2d");
+  M2dSummaryVersions(sum); /* version, git_commit, petsc_version (about.h) */
   SummaryString(sum, "", "run_id", pb->user->out.run_id);
   SummaryString(sum, "", "status", "ok"); /* written only by a run that got this far (else OutputWriteFailure's) */
   SummaryInt(sum, "", "dofs", 2 * pb->mesh.nvert_global);
@@ -351,6 +353,8 @@ static PetscErrorCode GoalIndicators(M2dProblem *pb, M2dSolution *sol, const M2d
     for (PetscInt c = 0; c < nlc; c++) g[c] = PetscSqrtReal(wg * PetscSqr(g[c]) / PetscMax(s2, PETSC_SMALL) + (1 - wg) * PetscSqr(eta[c]) / PetscMax(e2, PETSC_SMALL));
     eg.estimate = 1;
   }
+  for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 3] = g[c];
+  fig->size_est = eg;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   PetscCall(M2dSizeField(comm, nlc, h, g, &eg, &eo->size, hn, &fig->expected_cells));
   PetscCall(PetscFree3(az, g, h));
@@ -381,7 +385,11 @@ static PetscErrorCode Estimate(M2dProblem *pb, M2dSolution *sol, const M2dEstima
   for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 1] = av[c] * scale;
   PetscCall(M2dCellSizes(&pb->mesh, h));
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) PetscCall(GoalIndicators(pb, sol, eo, a, fig, hn));
-  else PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  else {
+    for (PetscInt c = 0; c < nlc; c++) sol->eta[M2D_ETA_FIELDS * c + 3] = a[c];
+    fig->size_est = *est;
+    PetscCall(M2dSizeField(comm, nlc, h, a, est, &eo->size, hn, &nexp));
+  }
   if (eo->goal_contact && ct && sol->path != M2D_PATH_LINEAR) nexp = fig->expected_cells;
   for (PetscInt c = 0; c < nlc; c++) {
     sol->eta[M2D_ETA_FIELDS * c]     = a[c] * scale;
@@ -600,8 +608,8 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
   for (int k = 0; nodal && k < M2D_NODAL_FIELDS; k++) fs.point[fs.npoint++] = (M2dPointField){nname[k], NULL, PETSC_FALSE, k, nodal, M2D_NODAL_FIELDS};
   for (int k = 0; k < M2D_CELL_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){cname[k], cells, M2D_CELL_FIELDS, k};
   if (sol->eta) {
-    const char *ename[M2D_ETA_FIELDS] = {"error_indicator", "error_indicator_volume", "size_factor"};
-    for (int k = 0; k < M2D_ETA_FIELDS; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
+    const char *ename[M2D_ETA_WRITTEN] = {"error_indicator", "error_indicator_volume", "size_factor"};
+    for (int k = 0; k < M2D_ETA_WRITTEN; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
   PetscCall(OutputWriteFields(&pb->mesh, o, &fs, ns ? &se : NULL, sol->nstep > 1 ? sol->steps[sol->nstep - 1].time : -1));
   for (PetscInt k = 0; k < ns; k++) PetscCall(StepFieldsDestroy(&sf[k]));

@@ -13,6 +13,7 @@
  *   -pressure  GROUP:P[:GX:GY]           normal pressure P + GX x + GY y (positive pushes in)
  *   -traction  GROUP:TX:TY               traction vector */
 #include "scene.h"
+#include "about.h"
 #include "optcheck.h"
 #include "options.h"
 #include <math.h>
@@ -20,13 +21,6 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
-
-#ifndef M2D_MESH_DIR
-  #define M2D_MESH_DIR "meshes"
-#endif
-#ifndef M2D_GEO_DIR
-  #define M2D_GEO_DIR "meshes"
-#endif
 
 /* split "a:b:c" in place into at most max fields; max + 1 when there are more */
 static int Split(char *s, char **f, int max)
@@ -408,7 +402,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   PetscFunctionBeginUser;
   /* by job, as the options are read; every other field 0 */
   *s = (M2dScene){
-    .mesh_dir = M2D_MESH_DIR, .geo_dir = M2D_GEO_DIR, .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
+    .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
     .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
     .nstage = 1, .stage_steps = {1},
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
@@ -416,6 +410,8 @@ static PetscErrorCode Defaults(M2dScene *s)
     .icntl4 = 0, .icntl7 = 7, .icntl8 = 0, .icntl14 = 20, .icntl58 = 2,
     .out = {.dir = "output", .name = "solution", .h5 = PETSC_TRUE, .vtu = PETSC_TRUE, .csv = PETSC_TRUE, .summary = PETSC_TRUE},
   };
+  M2dMeshDir(s->mesh_dir, sizeof(s->mesh_dir)); /* the shipped meshes, .geo and .msh together */
+  PetscCall(PetscStrncpy(s->geo_dir, s->mesh_dir, sizeof(s->geo_dir)));
   PetscFunctionReturn(0);
 }
 
