@@ -67,6 +67,9 @@ PetscErrorCode ContactSetup(const M2dMesh *m, const M2dScene *s, PetscReal L, M2
  * is held closed), and slip (the accumulated weighted slip of the tangential
  * rows, layout of r; NULL without friction). Collective. */
 PetscErrorCode ContactResults(M2dContact *c, Mat C, Vec r, Vec u, Vec lam, Vec active, Vec slip);
+/* Point each pair's results (pressure, ..., status) at its nodes in c's
+ * arrays (after c's arrays were set or replaced). Not collective. */
+void           ContactPairViews(M2dContact *c);
 typedef struct {
   PetscReal a, p0;           /* Hertz half-width and peak pressure */
   PetscReal half_width;      /* computed: midway between the last active and first inactive node */

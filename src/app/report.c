@@ -549,18 +549,10 @@ static PetscErrorCode StepFieldsCreate(M2dProblem *pb, const M2dLoadStep *ls, Pe
       else if (f == 5) c->slip_inc = a;
       else c->status = a;
     }
-    for (PetscInt q = 0; q < c->npair; q++) {
-      M2dContactPair *p = &c->pair[q];
-      p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
-      p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
-    }
+    ContactPairViews(c);
     PetscCall(InterfaceFields(c, sf->u, friction, sf->v, &sf->fs));
     c->pressure = keep[0], c->gap = keep[1], c->active = keep[2], c->traction = keep[3], c->slip = keep[4], c->slip_inc = keep[5], c->status = keep[6];
-    for (PetscInt q = 0; q < c->npair; q++) {
-      M2dContactPair *p = &c->pair[q];
-      p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
-      p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
-    }
+    ContactPairViews(c);
     PetscCall(PetscFree(arr));
   }
   for (int k = 0; k < M2D_CELL_FIELDS; k++) sf->fs.cell[sf->fs.ncell++] = (M2dCellField){cname[k], sf->cells, M2D_CELL_FIELDS, k};

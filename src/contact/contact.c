@@ -150,6 +150,15 @@ static void PairForce(M2dContactPair *c)
   if (c->T.n) AddRowForces(c, &c->T, c->traction);
 }
 
+void ContactPairViews(M2dContact *c)
+{
+  for (PetscInt k = 0; k < c->npair; k++) {
+    M2dContactPair *p = &c->pair[k];
+    p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
+    p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
+  }
+}
+
 PetscErrorCode ContactResults(M2dContact *c, Mat C, Vec r, Vec u, Vec lam, Vec active, Vec slip)
 {
   Vec                gw, from[4], all[4]; /* multipliers, weighted gaps and slips, active flags (NULL: all), accumulated slips */
@@ -190,12 +199,8 @@ PetscErrorCode ContactResults(M2dContact *c, Mat C, Vec r, Vec u, Vec lam, Vec a
     c->slip[i]     = PetscRealPart(a[3][j]) / c->R.w[j];
     if (c->active[i] != 0 && PetscRealPart(a[2][j]) != 0) c->status[i] = M2D_STATUS_STICK;
   }
-  for (PetscInt k = 0; k < c->npair; k++) {
-    M2dContactPair *p = &c->pair[k];
-    p->pressure = c->pressure + p->off, p->gap = c->gap + p->off, p->active = c->active + p->off;
-    p->traction = c->traction + p->off, p->slip = c->slip + p->off, p->slip_inc = c->slip_inc + p->off, p->status = c->status + p->off;
-    PairForce(p);
-  }
+  ContactPairViews(c);
+  for (PetscInt k = 0; k < c->npair; k++) PairForce(&c->pair[k]);
   for (int k = 0; k < 4; k++) {
     PetscCall(VecRestoreArrayRead(all[k], &a[k]));
     PetscCall(VecDestroy(&all[k]));

@@ -412,17 +412,25 @@ static PetscErrorCode DirichletDiagonal(Mat K, PetscReal *diag)
   PetscFunctionReturn(0);
 }
 
+/* u: the values on the held rows, 0 elsewhere; *diag: the unit rows' diagonal */
+static PetscErrorCode DirichletValues(Mat K, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[], PetscReal *diag)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DirichletDiagonal(K, diag));
+  PetscCall(VecZeroEntries(u));
+  PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(u));
+  PetscCall(VecAssemblyEnd(u));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ElasticityLiftDirichlet(Mat K, Vec f, Vec u, PetscInt n, const PetscInt rows[], const PetscScalar vals[])
 {
   PetscReal diag;
   Vec       ku;
 
   PetscFunctionBeginUser;
-  PetscCall(DirichletDiagonal(K, &diag));
-  PetscCall(VecZeroEntries(u));
-  PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(u));
-  PetscCall(VecAssemblyEnd(u));
+  PetscCall(DirichletValues(K, u, n, rows, vals, &diag));
   PetscCall(VecDuplicate(f, &ku)); /* as MatZeroRowsColumns: f - K u on the free rows, diag u on the held ones */
   PetscCall(MatMult(K, u, ku));
   PetscCall(VecAXPY(f, -1.0, ku));
@@ -438,11 +446,7 @@ PetscErrorCode ElasticityApplyDirichlet(Mat K, Vec f, Vec u, PetscInt n, const P
   PetscReal diag;
 
   PetscFunctionBeginUser;
-  PetscCall(DirichletDiagonal(K, &diag));
-  PetscCall(VecZeroEntries(u));
-  PetscCall(VecSetValues(u, n, rows, vals, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(u));
-  PetscCall(VecAssemblyEnd(u));
+  PetscCall(DirichletValues(K, u, n, rows, vals, &diag));
   PetscCall(MatZeroRowsColumns(K, n, rows, diag, u, f));
   PetscFunctionReturn(0);
 }
