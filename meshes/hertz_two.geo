@@ -1,5 +1,5 @@
 // hertz_two.geo -- Hertz contact of two elastic cylinders (Q4 only), for
-// -hertz_radius R1,R2 (effective radius R = R1 R2 / (R1 + R2)).
+// -hertz_radius R1:R2 (effective radius R = R1 R2 / (R1 + R2)).
 //   upper: quarter disk of radius R1 centred at (0,R1), x in [0,R1], loaded on
 //          its flat top y = R1;
 //   lower: quarter disk of radius R2 centred at (0,-R2), x in [0,R2], held on

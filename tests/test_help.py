@@ -22,7 +22,7 @@ OURS = ["-mesh", "-mesh_dir", "-mesh_scale", "-mesh_partitioner", "-mesh_check",
         "-contact_method", "-mortar_basis", "-contact_unilateral", "-contact_c", "-contact_initial",
         "-contact_monitor", "-contact_reach", "-contact_friction", "-load_steps", "-load_stages", "-stage2_pressure", "-stage2_traction",
         "-stage2_dirichlet", "-stage2_steps", "-exact", "-exact_p", "-exact_tau", "-exact_angle", "-mms_amplitude", "-hertz", "-cattaneo",
-        "-hertz_radius", "-hertz_load", "-kkt_mat", "-kkt_path", "-kkt_ordering", "-kkt_ldlt", "-mat_mumps_icntl_4",
+        "-hertz_radius", "-hertz_pairs", "-hertz_load", "-kkt_mat", "-kkt_path", "-kkt_ordering", "-kkt_ldlt", "-mat_mumps_icntl_4",
         "-mat_mumps_icntl_7", "-mat_mumps_icntl_8", "-mat_mumps_icntl_14", "-mat_mumps_icntl_58", "-kkt_augment", "-kkt_condensed_max",
         "-output_dir", "-output_name", "-output", "-output_vtu", "-output_hdf5", "-summary",
         "-lower_E", "-lower_nu", "-upper_E", "-upper_nu"]
@@ -31,7 +31,7 @@ DEFAULTS = {"-plane": "strain", "-exact": "none", "-output_dir": "output", "-out
             "-lower_E": "1.", "-lower_nu": "0.3", "-kkt_path": "condensed", "-kkt_condensed_max": "8000", "-kkt_ordering": "auto",
             "-kkt_ldlt": "TRUE", "-mat_mumps_icntl_14": "20", "-mesh_partitioner": "metis", "-mesh_check": "FALSE",
             "-contact_c": "auto", "-contact_reach": "auto", "-hertz_load": "auto", "-exact_p": "auto",
-            "-hertz_radius": "1.", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",
+            "-hertz_radius": "1", "-hertz_pairs": "the curved ones", "-contact_method": "mortar", "-contact_initial": "closest", "-geo": "none",
             "-mesh": "none, required", "-summary": "OUTPUT_DIR/N_summary.json", "-output": "h5,vtu,csv,summary", "-exact_angle": "0.", "-mortar_basis": "standard",
             "-contact_friction": "0.", "-load_steps": "1", "-load_stages": "1", "-stage2_steps": "1"}
 

@@ -12,7 +12,7 @@ late or only on some paths must not be refused (no false alarm).
      PETSC_OPTIONS), missing or unreadable files, a line PETSc refuses;
   4. an unknown value of a choice names the option and lists the choices;
 and scenes run from any directory, mesh names resolved against -mesh_dir,
--hertz_radius R1,R2 compared through its effective radius.
+-hertz_radius R1:R2 compared through its effective radius.
 
 Open MPI's "job aborted" banner (mpiexec's, not mortar2d's) is switched off
 with OMPI_MCA_orte_execute_quiet, as in test_bad_input.py."""
@@ -110,7 +110,7 @@ good("automatic values said explicitly", HERTZ0 + ["-contact_c", "auto", "-conta
 # ---------- 2. values outside their domain ----------
 for opt, val, base in [("-contact_c", "0", PATCH), ("-contact_c", "-1", PATCH), ("-contact_c", "inf", PATCH), ("-contact_reach", "-1", PATCH),
                        ("-mesh_scale", "0", BLOCK), ("-mesh_scale", "nan", BLOCK), ("-hertz_radius", "0", HERTZ0),
-                       ("-hertz_radius", "1,-2", HERTZ0), ("-hertz_radius", "1,2,3", HERTZ0), ("-hertz_radius", "one", HERTZ0),
+                       ("-hertz_radius", "1:-2", HERTZ0), ("-hertz_radius", "1,2", HERTZ0), ("-hertz_radius", "1:2:3", HERTZ0), ("-hertz_radius", "one", HERTZ0),
                        ("-hertz_load", "0", HERTZ0), ("-kkt_augment", "-1", PATCH), ("-exact_p", "-1", BLOCK),
                        ("-exact_p", "x", BLOCK), ("-exact_angle", "inf", BLOCK), ("-mms_amplitude", "0", BLOCK),
                        ("-block_E", "1e308", BLOCK), ("-block_E", "1e-301", BLOCK), ("-block_E", "0", BLOCK),
@@ -184,15 +184,15 @@ bad("-mesh_dir without the file", BLOCK + ["-mesh_dir", W], ["-mesh", "block.msh
 bad("-geo by name, from the source tree's meshes/", ["-options_file", opts("block"), "-mesh", mesh("block"), "-geo", "block.geo", "-output_dir", OUT], ["option -geo has no effect without -adapt"], ranklist=(1,), cwd=elsewhere)
 bad("-geo that is nowhere", BLOCK + ["-geo", "nosuch.geo"], ["-geo", "nosuch.geo"], ranklist=(1,))
 
-# ---------- -hertz_radius R1,R2: the effective radius R1 R2/(R1 + R2) ----------
+# ---------- -hertz_radius R1:R2: the effective radius R1 R2/(R1 + R2) ----------
 def hertz_a(extra, name):
     summary = os.path.join(W, name + ".json")
     rc, out, err = run(HERTZ0 + extra + ["-summary", summary, "-output_vtu", "false", "-output_hdf5", "false"], check=False, timeout=TIMEOUT)
     return (json.load(open(summary))["hertz_a"] if rc == 0 else None), out
 
 
-(a1, _), (a2, out2) = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3,1.5"], "radius_3_1.5")
-report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3,1.5 is R = 1", "a = %s and %s" % (a1, a2))
+(a1, _), (a2, out2) = hertz_a([], "radius_1"), hertz_a(["-hertz_radius", "3:1.5"], "radius_3_1.5")
+report(a1 is not None and a2 is not None and abs(a1 - a2) <= 1e-12 * a1, "-hertz_radius 3:1.5 is R = 1", "a = %s and %s" % (a1, a2))
 report(re.search(r"radii 3\.? and 1\.5, effective radius R = R1 R2/\(R1 \+ R2\) = 1\.?\n", out2) is not None, "the output states the effective radius")
 
 # ---------- 5. options that do nothing, values cut, files cut (issue 22 items 9, 10) ----------

@@ -227,7 +227,7 @@ def known_values(name, sc):
         "-contact_initial": choice_values([("gap", A), ("closest", A), ("all", A)]),
         "-contact_monitor": bool_values(),
         "-hertz": bool_values(),
-        "-hertz_radius": real_values([("1", A), ("2", A), ("1,5", None)], odd_keeps=A),  # R1,R2: two cylinders
+        "-hertz_radius": real_values([("1", A), ("2", A), ("1:5", None)], odd_keeps=A),  # R1:R2: two cylinders
         "-hertz_load": real_values([("auto", A), ("0.86", A)], invalid=["0", "-1"], odd_keeps=A),
         "-mortar_basis": choice_values([("standard", A), ("dual", A)]),
         "-contact_reach": real_values([("auto", A), ("0.5", A), ("10", A)], invalid=["0", "-1"], boundary=["1e-3", "1e-12", "1e300"], odd_keeps=L),

@@ -30,7 +30,8 @@ typedef struct {
 /* the figures a run is judged by (-1 where not known) */
 typedef struct {
   M2dErrorEstimate est;             /* the error estimate (reference units; estimate_rel is unit-free) */
-  PetscReal        pressure_l2_rel; /* -hertz: the pressure error against Hertz */
+  PetscReal        pressure_l2_rel; /* -hertz: the pressure error against Hertz, the largest over the compared pairs */
+  PetscInt         hertz_pairs;     /* -hertz: how many pairs it compared */
   PetscReal        true_error_rel;  /* -exact: the energy-norm error, relative */
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */

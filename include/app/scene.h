@@ -36,6 +36,7 @@ typedef struct {
   int              basis;        /* MortarBasis (mortar.h) */
   PetscBool        own_method;   /* given in -contact_pairs (NM:M:standard|dual|nts) */
   PetscReal        hertz_radius; /* -hertz: this pair's effective radius */
+  PetscBool        hertz;        /* -hertz compares it: named in -hertz_pairs, or (none named) a curved pair (ProblemCreate) */
   PetscReal        mu;           /* Coulomb friction coefficient (0: frictionless) */
   PetscBool        own_mu;       /* given in -contact_pairs (NM:M[:method]:MU) */
   char             what[2 * M2D_NAME_LEN + 64]; /* the options that name it, for messages */
@@ -128,9 +129,10 @@ typedef struct {
   PetscInt         stage_steps[M2D_MAX_STAGES]; /* each stage's load steps (-load_steps, -stage<k>_steps) */
   PetscBool        hertz;           /* compare the contact pressure with Hertz */
   PetscBool        cattaneo;        /* with -hertz and friction: compare the shear traction with Cattaneo-Mindlin */
-  PetscInt         hertz_nradius;   /* 1 or 2 radii given (every pair), or 2 per pair */
-  PetscReal        hertz_radii[2 * M2D_MAX_PAIRS]; /* R1 (and R2) of -hertz_radius */
-  PetscReal        hertz_radius;    /* effective radius of the first pair (pair[k].hertz_radius: each pair's) */
+  PetscInt         hertz_nradius;   /* entries of -hertz_radius: 1 (every compared pair) or one per -hertz_pairs entry */
+  PetscReal        hertz_radii[M2D_MAX_PAIRS][2]; /* each entry's R1 and R2 (0: one radius) */
+  PetscInt         hertz_npairs;    /* -hertz_pairs given: the pairs compared (1, 2, ...); 0: the curved ones */
+  PetscInt         hertz_pairs[M2D_MAX_PAIRS];
   PetscBool        hertz_load_set;  /* -hertz_load given; FALSE: from the first -pressure (hertz_load is then 0) */
   PetscReal        hertz_load;
   PetscBool        exact_p_set;     /* -exact_p given; else exact_p is the first -pressure (-exact uniform) */

@@ -93,6 +93,27 @@ typedef struct {
  * (c/a) sqrt(1 - x^2/c^2)) for |x| < c, mu p(x) for c <= |x| <= a. Not
  * collective. */
 PetscErrorCode ContactCattaneo(const M2dContactPair *c, const M2dScene *s, const M2dHertzResult *h, M2dCattaneoResult *r);
+/* What an engineer reads off a pair, in c's units (after
+ * ContactToUserUnits: the user's), positions on the non-mortar surface as
+ * meshed: the active nodes along the surface (its edges' direction, body on
+ * the left; chains in the order of their first nodes' (x, y), a closed loop
+ * from an open node) form `zones`; from and to are the first and last active
+ * nodes, length the zones' lengths summed (each zone's ends midway to the
+ * next node, or at the surface's end), half_width one zone's half length,
+ * or its whole length when one end is the surface's end on x = 0 of a half
+ * model (the symmetry plane); -1 with no or several zones, or a zone cut by
+ * the surface's end elsewhere; the largest pressure and its node
+ * (ties within 1e-9 of it: the first along the surface). Not collective. */
+typedef struct {
+  PetscInt  zones;
+  PetscReal from[2], to[2], length, half_width;
+  PetscReal peak, peak_at[2];
+} M2dPairFigures;
+PetscErrorCode ContactPairFigures(const M2dContactPair *c, M2dPairFigures *f);
+/* Whether either surface of c is curved: its normal turns at some node by
+ * more than 1e-6 rad, less than 45 degrees (-hertz's choice of pairs). Not
+ * collective. */
+PetscBool ContactPairCurved(const M2dContactPair *c);
 /* Point fields in the displacement layout (after ContactResults; every rank
  * calls, rank 0 sets): field component 0 the contact pressure, 1 the gap, on
  * the non-mortar nodes with a multiplier and, interpolated from those nodes

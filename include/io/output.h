@@ -38,11 +38,16 @@ typedef struct {
   PetscInt         stride, comp;
 } M2dCellField;
 
-/* Fields to write; names, vectors and arrays are borrowed (the caller keeps them). */
+/* Fields to write; names, vectors and arrays are borrowed (the caller keeps
+ * them). body_names (nbody of them, may be 0): the names of the values 0, 1,
+ * ... of the cell field "body", written as the VTU's field data body_names
+ * (a string array), the .h5's dataset /body_names and the .xmf's
+ * Information body_names. */
 typedef struct {
-  PetscInt      npoint, ncell;
-  M2dPointField point[M2D_MAX_FIELDS];
-  M2dCellField  cell[M2D_MAX_FIELDS];
+  PetscInt           npoint, ncell, nbody;
+  M2dPointField      point[M2D_MAX_FIELDS];
+  M2dCellField       cell[M2D_MAX_FIELDS];
+  const char *const *body_names;
 } M2dFieldSet;
 
 /* The files of one run being written (rank 0 holds them). */

@@ -614,7 +614,7 @@ static PetscReal GoalEstimate(const M2dAdaptOptions *ao, const M2dStep *st)
 
 /* what the summary's "adapt" list keeps of each step */
 typedef struct {
-  PetscInt  dofs, iterations, ripple_nodes, active_nodes;
+  PetscInt  dofs, iterations, ripple_nodes, active_nodes, hertz_pairs;
   PetscReal estimate, goal, pressure_estimate, pressure_l2_rel, error_rel, effectivity, ripple, seconds, gmsh;
   PetscReal memory;          /* MB: the largest rank's peak resident memory so far */
   PetscReal rate, next_dofs; /* the plan made from this step (0: none) */
@@ -641,6 +641,7 @@ static void Record(StepRecord *r, const M2dAdaptOptions *ao, const M2dStep *st, 
   r->goal            = GoalEstimate(ao, st);
   r->pressure_estimate = st->fig.pressure_estimate;
   r->pressure_l2_rel = st->fig.pressure_l2_rel;
+  r->hertz_pairs     = st->fig.hertz_pairs;
   r->error_rel       = st->fig.true_error_rel;
   r->effectivity     = st->fig.effectivity;
   r->ripple          = st->fig.pressure_ripple;
@@ -652,10 +653,10 @@ static void Record(StepRecord *r, const M2dAdaptOptions *ao, const M2dStep *st, 
 
 static void StepLine(MPI_Comm comm, PetscInt k, const StepRecord *r)
 {
-  char known[128] = "", contact[128] = "";
+  char known[128] = "", contact[160] = "", hertz[64] = "";
   if (r->error_rel >= 0) PetscSNPrintf(known, sizeof(known), " (true %.3e)", (double)r->error_rel);
-  if (r->pressure_estimate >= 0) PetscSNPrintf(contact, sizeof(contact), ", pressure %.3e%s%.3e%s, ripple %.2f%%", (double)r->pressure_estimate, r->pressure_l2_rel >= 0 ? " (Hertz " : "", (double)r->pressure_l2_rel, r->pressure_l2_rel >= 0 ? ")" : "", (double)(100 * r->ripple));
-  if (r->pressure_l2_rel < 0 && r->pressure_estimate >= 0) PetscSNPrintf(contact, sizeof(contact), ", pressure %.3e, ripple %.2f%%", (double)r->pressure_estimate, (double)(100 * r->ripple));
+  if (r->pressure_l2_rel >= 0) PetscSNPrintf(hertz, sizeof(hertz), " (Hertz %.3e%s)", (double)r->pressure_l2_rel, r->hertz_pairs > 1 ? ", the worst pair" : "");
+  if (r->pressure_estimate >= 0) PetscSNPrintf(contact, sizeof(contact), ", pressure %.3e%s, ripple %.2f%%", (double)r->pressure_estimate, hertz, (double)(100 * r->ripple));
   PetscPrintf(comm, "adapt step %" PetscInt_FMT ": %" PetscInt_FMT " dofs, estimated errors: energy %.3e%s%s, %" PetscInt_FMT " active-set steps, %.3f s\n", k, r->dofs, (double)r->estimate, known, contact, r->iterations, r->seconds);
 }
 

@@ -62,6 +62,25 @@ PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const 
   PetscFunctionReturn(0);
 }
 
+/* -hertz: the pairs compared, once their surfaces are known: those of
+ * -hertz_pairs (each must be curved), else every curved pair */
+static PetscErrorCode HertzPairs(M2dProblem *pb)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)pb->mesh.dm);
+  PetscInt first = -1;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < pb->s.npair; k++) {
+    M2dPair  *p = &pb->s.pair[k];
+    PetscBool curved = ContactPairCurved(&pb->contact.pair[k]);
+    PetscCheck(!p->hertz || curved, comm, PETSC_ERR_USER_INPUT, "option -hertz_pairs: pair %d '%s:%s' is flat on flat: Hertz compares a curved surface with another", (int)k + 1, p->nm, p->m);
+    if (!pb->s.hertz_npairs) p->hertz = curved;
+    if (p->hertz && first < 0) first = k;
+  }
+  PetscCheck(first >= 0, comm, PETSC_ERR_USER_INPUT, "option -hertz: no pair has a curved surface (Hertz compares a cylinder with a surface; name the pairs with -hertz_pairs)");
+  PetscFunctionReturn(0);
+}
+
 /* K's near-null space: the rigid-body modes of the bodies together (an AMG's
  * aggregates lie in one body), in the frames' coordinates where supports
  * are inclined (frames.h) */
@@ -211,6 +230,7 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
     PetscCall(ContactSetup(&pb->mesh, &pb->s, pb->units.L, &pb->contact));
     /* the geometric gap from scaled coordinates is g0 / L^2; in reference units it is g0 / (L U) */
     for (PetscInt j = 0; j < pb->contact.R.n; j++) pb->contact.R.g0[j] *= pb->units.L / pb->units.U;
+    if (pb->s.hertz) PetscCall(HertzPairs(pb));
   }
   *t_contact = M2dWallTime() - *t_contact;
   PetscCall(PetscLogStagePop());

@@ -13,6 +13,8 @@
 
 /* stress, per local cell: sigma_x, sigma_y, sigma_z, sigma_xy, von Mises, body (user units) */
 #define M2D_CELL_FIELDS 6
+/* the log's lines per pair and per body: the first this many (the summary has every one) */
+#define M2D_LINES_MAX 16
 
 static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *sol, const M2dVerification *v, M2dSummary *sum)
 {
@@ -54,51 +56,54 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   PetscFunctionReturn(0);
 }
 
-/* pair k's Hertz comparison: the first pair's at the top level, every pair's in "pairs" */
-static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, M2dFigures *fig, M2dSummary *sum)
-{
-  M2dHertzResult h;
-  const M2dUnits *un = &pb->units;
+/* pair k's comparison with Hertz (and Cattaneo-Mindlin), computed in the
+ * reference units before the interface goes to the user's */
+typedef struct {
+  M2dHertzResult    h;
+  M2dCattaneoResult cm;
+} PairExact;
 
+static PetscErrorCode PairExactCompute(M2dProblem *pb, PetscInt k, PairExact *e)
+{
   PetscFunctionBeginUser;
-  PetscCall(ContactHertz(&pb->contact.pair[k], &pb->s, &h)); /* reference units */
-  fig->pressure_l2_rel = k ? PetscMax(fig->pressure_l2_rel, h.pressure_l2_rel) : h.pressure_l2_rel;
-  if (k == 0) {
-    SummaryReal(sum, "", "pressure_l2_rel", h.pressure_l2_rel);
-    SummaryReal(sum, "", "peak_pressure", h.peak_pressure * un->S);
-    SummaryReal(sum, "", "half_width", h.half_width * un->L);
-    SummaryReal(sum, "", "half_width_spacing", h.h_edge * un->L);
-    SummaryReal(sum, "", "hertz_a", h.a * un->L);
-    SummaryReal(sum, "", "hertz_p0", h.p0 * un->S);
-    SummaryReal(sum, "", "hertz_radius", pb->user->hertz_radius);
-  }
-  if (pb->s.npair > 1) {
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "pressure_l2_rel", h.pressure_l2_rel));
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "peak_pressure", h.peak_pressure * un->S));
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "half_width", h.half_width * un->L));
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_a", h.a * un->L));
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_p0", h.p0 * un->S));
-    PetscCall(M2dSummaryListReal(sum, "pairs", k, "hertz_radius", pb->user->pair[k].hertz_radius));
-  }
-  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz%s%s: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", pb->s.npair > 1 ? " " : "", pb->s.npair > 1 ? pb->s.pair[k].nm : "", (double)(h.a * un->L), (double)(h.half_width * un->L), (double)(h.h_edge * un->L), (double)(h.p0 * un->S),
-                        (double)(h.peak_pressure * un->S), (double)h.pressure_l2_rel));
-  if (pb->s.cattaneo && pb->contact.pair[k].mu > 0) {
-    M2dCattaneoResult cm;
-    const char       *keys[4] = {"stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel"};
-    PetscReal         vals[4];
-    PetscCall(ContactCattaneo(&pb->contact.pair[k], &pb->s, &h, &cm));
-    vals[0] = cm.c * un->L, vals[1] = cm.c_exact * un->L, vals[2] = cm.shear_l2_rel, vals[3] = cm.shear_odd_rel;
-    for (int q = 0; q < 4; q++) {
-      if (k == 0) SummaryReal(sum, "", keys[q], vals[q]);
-      if (pb->s.npair > 1) PetscCall(M2dSummaryListReal(sum, "pairs", k, keys[q], vals[q]));
-    }
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Cattaneo-Mindlin%s%s: stick zone c = %.6g (computed %.6g), L2 error of the shear traction on [-1.5a, 1.5a]: %.4e (its even part; the odd part %.4e of it)\n", pb->s.npair > 1 ? " " : "", pb->s.npair > 1 ? pb->s.pair[k].nm : "", (double)vals[1], (double)vals[0], (double)vals[2], (double)vals[3]));
-  }
+  PetscCall(ContactHertz(&pb->contact.pair[k], &pb->s, &e->h));
+  if (pb->s.cattaneo && pb->contact.pair[k].mu > 0) PetscCall(ContactCattaneo(&pb->contact.pair[k], &pb->s, &e->h, &e->cm));
   PetscFunctionReturn(0);
 }
 
-/* friction: the tangential force and the stick and slip counts of each pair
- * (user units), the first pair's at the top level */
+/* pair k's Hertz comparison: in "pairs", and the first compared pair's at
+ * the top level (first); fig->pressure_l2_rel the largest of them */
+static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, PetscBool first, const PairExact *e, M2dFigures *fig, M2dSummary *sum)
+{
+  const M2dHertzResult *h  = &e->h;
+  const M2dUnits       *un = &pb->units;
+  const char           *pk = pb->s.npair > 1 ? " " : "", *pn = pb->s.npair > 1 ? pb->s.pair[k].nm : "";
+  const char           *keys[9] = {"pressure_l2_rel", "half_width", "hertz_a", "hertz_p0", "hertz_radius", "stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel"};
+  PetscReal             vals[9] = {h->pressure_l2_rel, h->half_width * un->L, h->a * un->L, h->p0 * un->S, pb->user->pair[k].hertz_radius, e->cm.c * un->L, e->cm.c_exact * un->L, e->cm.shear_l2_rel, e->cm.shear_odd_rel};
+  PetscBool             cm = (PetscBool)(pb->s.cattaneo && pb->contact.pair[k].mu > 0);
+
+  PetscFunctionBeginUser;
+  fig->pressure_l2_rel = PetscMax(fig->pressure_l2_rel, h->pressure_l2_rel);
+  fig->hertz_pairs++;
+  for (int q = 0; q < (cm ? 9 : 5); q++) PetscCall(M2dSummaryListReal(sum, "pairs", k, keys[q], vals[q]));
+  if (first) {
+    SummaryReal(sum, "", "pressure_l2_rel", h->pressure_l2_rel);
+    SummaryReal(sum, "", "peak_pressure", h->peak_pressure * un->S);
+    SummaryReal(sum, "", "half_width", h->half_width * un->L);
+    SummaryReal(sum, "", "half_width_spacing", h->h_edge * un->L);
+    SummaryReal(sum, "", "hertz_a", h->a * un->L);
+    SummaryReal(sum, "", "hertz_p0", h->p0 * un->S);
+    SummaryReal(sum, "", "hertz_radius", pb->user->pair[k].hertz_radius);
+    for (int q = 5; cm && q < 9; q++) SummaryReal(sum, "", keys[q], vals[q]);
+  }
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz%s%s: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", pk, pn, (double)(h->a * un->L), (double)(h->half_width * un->L), (double)(h->h_edge * un->L), (double)(h->p0 * un->S), (double)(h->peak_pressure * un->S), (double)h->pressure_l2_rel));
+  if (cm) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Cattaneo-Mindlin%s%s: stick zone c = %.6g (computed %.6g), L2 error of the shear traction on [-1.5a, 1.5a]: %.4e (its even part; the odd part %.4e of it)\n", pk, pn, (double)vals[6], (double)vals[5], (double)vals[7], (double)vals[8]));
+  PetscFunctionReturn(0);
+}
+
+/* friction: each pair's coefficient, tangential force and stick and slip
+ * counts (user units), the first pair's force and every pair's counts at the
+ * top level */
 static PetscErrorCode SummarizeFriction(const M2dProblem *pb, M2dSummary *sum)
 {
   const M2dContact *c = &pb->contact;
@@ -108,12 +113,10 @@ static PetscErrorCode SummarizeFriction(const M2dProblem *pb, M2dSummary *sum)
   for (PetscInt k = 0; k < c->npair; k++) {
     const M2dContactPair *p = &c->pair[k];
     nst += p->nstick, nsl += p->nslip;
-    if (c->npair > 1) {
-      PetscCall(M2dSummaryListReal(sum, "pairs", k, "mu", p->mu));
-      PetscCall(M2dSummaryListReal(sum, "pairs", k, "tangential_force", p->force_t));
-      PetscCall(M2dSummaryListInt(sum, "pairs", k, "stick_nodes", p->nstick));
-      PetscCall(M2dSummaryListInt(sum, "pairs", k, "slip_nodes", p->nslip));
-    }
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "mu", p->mu));
+    PetscCall(M2dSummaryListReal(sum, "pairs", k, "tangential_force", p->force_t));
+    PetscCall(M2dSummaryListInt(sum, "pairs", k, "stick_nodes", p->nstick));
+    PetscCall(M2dSummaryListInt(sum, "pairs", k, "slip_nodes", p->nslip));
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "friction%s%s: MU = %g, %" PetscInt_FMT " nodes stick, %" PetscInt_FMT " slip; tangential force %.12e, MU x normal force %.12e\n", c->npair > 1 ? " " : "", c->npair > 1 ? p->def->nm : "", (double)p->mu, p->nstick, p->nslip, (double)p->force_t, (double)(p->mu * p->force_n)));
   }
   SummaryReal(sum, "", "mu", c->pair[0].mu);
@@ -171,26 +174,48 @@ static PetscErrorCode SummarizeSteps(M2dProblem *pb, const M2dSolution *sol, M2d
   PetscFunctionReturn(0);
 }
 
-/* every pair in the list "pairs" (user units), and a line each */
-static PetscErrorCode SummarizePairs(const M2dProblem *pb, M2dSummary *sum)
+/* every pair in the list "pairs" (user units), and a line each: where it
+ * touches, its peak pressure, its forces; then the comparisons with exact
+ * answers and friction's figures */
+static PetscErrorCode SummarizePairs(M2dProblem *pb, const PairExact *ex, const M2dSolution *sol, M2dFigures *fig, M2dSummary *sum)
 {
   const M2dContact *c = &pb->contact;
+  MPI_Comm          comm = PetscObjectComm((PetscObject)pb->mesh.dm);
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < c->npair; k++) {
     const M2dContactPair *p  = &c->pair[k];
     PetscInt              na = 0;
+    M2dPairFigures        f;
+    char                  where[256] = "";
     for (PetscInt j = 0; j < p->R.n; j++) na += p->active[j] != 0;
+    PetscCall(ContactPairFigures(p, &f));
     PetscCall(M2dSummaryListString(sum, "pairs", k, "nonmortar", p->def->nm));
     PetscCall(M2dSummaryListString(sum, "pairs", k, "mortar", p->def->m));
     PetscCall(M2dSummaryListString(sum, "pairs", k, "method", M2dMethodOf(p->method, p->basis)->name));
     PetscCall(M2dSummaryListInt(sum, "pairs", k, "contact_nodes", p->R.n));
     PetscCall(M2dSummaryListInt(sum, "pairs", k, "active_nodes", na));
+    PetscCall(M2dSummaryListInt(sum, "pairs", k, "contact_zones", f.zones));
+    if (f.zones) {
+      PetscCall(M2dSummaryListArray(sum, "pairs", k, "contact_extent_from", 2, f.from));
+      PetscCall(M2dSummaryListArray(sum, "pairs", k, "contact_extent_to", 2, f.to));
+      PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_length", f.length));
+      if (f.half_width >= 0) PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_half_width", f.half_width));
+      PetscCall(M2dSummaryListReal(sum, "pairs", k, "peak_pressure", f.peak));
+      PetscCall(M2dSummaryListArray(sum, "pairs", k, "peak_pressure_at", 2, f.peak_at));
+      char hw[64] = "";
+      if (f.half_width >= 0) PetscCall(PetscSNPrintf(hw, sizeof(hw), ", half-width %.6g", (double)f.half_width));
+      PetscCall(PetscSNPrintf(where, sizeof(where), " in %" PetscInt_FMT " zone%s from (%.6g, %.6g) to (%.6g, %.6g), length %.6g%s%s, peak pressure %.6g at (%.6g, %.6g)", f.zones, f.zones > 1 ? "s" : "", (double)f.from[0], (double)f.from[1], (double)f.to[0], (double)f.to[1], (double)f.length, f.zones > 1 ? " (summed)" : "", hw, (double)f.peak, (double)f.peak_at[0], (double)f.peak_at[1]));
+    }
     PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force", p->force_n));
     PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force_x", p->force[0]));
     PetscCall(M2dSummaryListReal(sum, "pairs", k, "contact_force_y", p->force[1]));
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "pair %d '%s:%s': %" PetscInt_FMT " of %" PetscInt_FMT " nodes active, integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)\n", (int)k + 1, p->def->nm, p->def->m, na, p->R.n, (double)p->force_n, (double)p->force[0], (double)p->force[1]));
+    if (k < M2D_LINES_MAX) PetscCall(PetscPrintf(comm, "pair %d '%s:%s': %" PetscInt_FMT " of %" PetscInt_FMT " nodes active%s; integral of pressure %.12e, force on the non-mortar body (%.12e, %.12e)\n", (int)k + 1, p->def->nm, p->def->m, na, p->R.n, where, (double)p->force_n, (double)p->force[0], (double)p->force[1]));
   }
+  if (c->npair > M2D_LINES_MAX) PetscCall(PetscPrintf(comm, "(%" PetscInt_FMT " more pairs: every pair's figures are in the summary's pairs)\n", c->npair - M2D_LINES_MAX));
+  for (PetscInt k = 0, n = 0; k < c->npair && pb->s.hertz; k++)
+    if (pb->s.pair[k].hertz) PetscCall(SummarizeHertz(pb, k, (PetscBool)(n++ == 0), &ex[k], fig, sum));
+  if (sol->slip) PetscCall(SummarizeFriction(pb, sum));
   PetscFunctionReturn(0);
 }
 
@@ -202,12 +227,14 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
   M2dContact     *c = &pb->contact;
   M2dContactPair *c0 = &c->pair[0];
   PetscReal       na;
+  PairExact      *ex;
 
   PetscFunctionBeginUser;
   if (sol->nstep > 1) PetscCall(SummarizeSteps(pb, sol, sum));
-  for (PetscInt k = 0; k < c->npair && pb->s.hertz; k++) PetscCall(SummarizeHertz(pb, k, fig, sum));
+  PetscCall(PetscCalloc1(c->npair, &ex));
+  for (PetscInt k = 0; k < c->npair && pb->s.hertz; k++)
+    if (pb->s.pair[k].hertz) PetscCall(PairExactCompute(pb, k, &ex[k]));
   PetscCall(ContactToUserUnits(c, &pb->units));
-  if (sol->slip) PetscCall(SummarizeFriction(pb, sum));
   SummaryString(sum, "", "method", M2dMethodOf(c0->method, c0->basis)->family);
   SummaryInt(sum, "", "contact_nodes", c->nnormal);
   SummaryReal(sum, "", "contact_force", c0->force_n);
@@ -218,7 +245,8 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
     PetscCall(PetscSNPrintf(signs, sizeof(signs), "contact_force: the integral of the contact pressure, positive in compression; contact_force_x, contact_force_y: the force of the mortar body '%s' on the non-mortar body '%s'%s", pb->s.body[c0->m.body].name, pb->s.body[c0->nm.body].name, c->npair > 1 ? " (the first pair; every pair's in pairs)" : ""));
     SummaryString(sum, "", "contact_force_signs", signs);
   }
-  if (c->npair > 1) PetscCall(SummarizePairs(pb, sum));
+  PetscCall(SummarizePairs(pb, ex, sol, fig, sum));
+  PetscCall(PetscFree(ex));
   SummaryString(sum, "", "contact_solver", sol->path == M2D_PATH_TIED ? "tied" : sol->as.vi ? "vinewtonrsls" : "pdas");
   if (sol->path != M2D_PATH_TIED) SummaryInt(sum, "", "iterations", sol->as.iterations);
   na = 0;
@@ -234,7 +262,6 @@ static PetscErrorCode SummarizeContact(M2dProblem *pb, const M2dSolution *sol, M
     SummaryReal(sum, "", "factor_flops_max_rank", sol->as.factor_flops_max);
     SummaryInt(sum, "", "interface_unknowns", sol->as.interface_unknowns);
   }
-  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact force: integral of pressure %.12e, on the non-mortar body (%.12e, %.12e)%s\n", (double)c0->force_n, (double)c0->force[0], (double)c0->force[1], c->npair > 1 ? " (the first pair)" : ""));
   PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "contact pressure: %" PetscInt_FMT " active nodes, estimated error %.3e (relative L2), ripple %.2f%% of the peak over %" PetscInt_FMT " interior ones\n", (PetscInt)(na + 0.5), (double)fig->pressure_estimate, (double)(100 * fig->pressure_ripple), fig->ripple_nodes));
   PetscFunctionReturn(0);
 }
@@ -290,6 +317,117 @@ static PetscErrorCode CellFields(const M2dProblem *pb, Vec u, PetscReal scale, P
     f[M2D_CELL_FIELDS * c + 5] = (PetscReal)pb->mesh.cellbody[c];
   }
   *fields = f;
+  PetscFunctionReturn(0);
+}
+
+/* the recovered stresses per local vertex in the user's units: sigma_x,
+ * sigma_y, sigma_z (plane strain: nu (sigma_x + sigma_y) of the vertex's body),
+ * sigma_xy, von Mises; M2D_NODAL_FIELDS each */
+#define M2D_NODAL_FIELDS 5
+static PetscErrorCode NodalFields(const M2dProblem *pb, const PetscReal sv[], PetscReal **fields)
+{
+  const M2dMesh *m  = &pb->mesh;
+  PetscInt       nv = m->vEnd - m->vStart;
+  PetscReal     *f, S = pb->units.S;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(M2D_NODAL_FIELDS * nv + 1, &f));
+  for (PetscInt c = 0; c < m->cEnd - m->cStart; c++) /* sigma_z's factor, by the body of a cell around the vertex */
+    for (int k = 0; k < 4; k++) f[M2D_NODAL_FIELDS * (m->cellverts[4 * c + k] - m->vStart) + 2] = pb->s.plane == M2D_PLANE_STRAIN ? pb->s.body[m->cellbody[c]].nu : 0;
+  for (PetscInt v = 0; v < nv; v++) {
+    /* von Mises from the internal units, then scaled (its squares could overflow in the user's) */
+    PetscReal *o = &f[M2D_NODAL_FIELDS * v], sx = sv[3 * v], sy = sv[3 * v + 1], sxy = sv[3 * v + 2], sz = o[2] * (sx + sy);
+    o[0] = sx * S;
+    o[1] = sy * S;
+    o[2] = sz * S;
+    o[3] = sxy * S;
+    o[4] = PetscSqrtReal(0.5 * ((sx - sy) * (sx - sy) + (sy - sz) * (sy - sz) + (sz - sx) * (sz - sx)) + 3 * sxy * sxy) * S;
+  }
+  *fields = f;
+  PetscFunctionReturn(0);
+}
+
+/* the largest value of each slot over the ranks, and where: ties within
+ * 1e-9 of it go to the least (x, y), so that 1 and 2 ranks name the same
+ * point. cand[3 i + {0, 1, 2}]: candidate i's value (>= 0), x, y, for slot
+ * slot[i]; best[3 k + {0, 1, 2}] slot k's (value -1: no candidate).
+ * Collective. */
+static PetscErrorCode SlotMaxima(MPI_Comm comm, PetscInt n, PetscInt ncand, const PetscReal cand[], const PetscInt slot[], PetscReal best[])
+{
+  PetscReal *col;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n + 1, &col));
+  for (int c = 0; c < 3; c++) { /* the value, then x among the ties, then y among those at that x */
+    for (PetscInt k = 0; k < n; k++) col[k] = c ? PETSC_MAX_REAL : -1;
+    for (PetscInt i = 0; i < ncand; i++) {
+      const PetscReal *q = &cand[3 * i], *bk = &best[3 * slot[i]];
+      if (c == 0) col[slot[i]] = PetscMax(col[slot[i]], q[0]);
+      else if (q[0] >= (1 - 1e-9) * bk[0] && (c == 1 || q[1] == bk[1])) col[slot[i]] = PetscMin(col[slot[i]], q[c]);
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, col, (PetscMPIInt)n, MPIU_REAL, c ? MPIU_MIN : MPIU_MAX, comm));
+    for (PetscInt k = 0; k < n; k++) best[3 * k + c] = col[k];
+  }
+  PetscCall(PetscFree(col));
+  PetscFunctionReturn(0);
+}
+
+/* per body ("body_results", user units, positions as meshed): the largest
+ * von Mises stress of the cells (each cell's mean stress, at its centroid)
+ * and of the recovered nodal stresses (with the error estimate), the largest
+ * displacement, each with where; and a line each. Collective. */
+static PetscErrorCode SummarizeBodies(const M2dProblem *pb, const M2dSolution *sol, M2dSummary *sum)
+{
+  const M2dMesh *m   = &pb->mesh;
+  PetscInt       nb  = pb->s.nbody, nlc = m->cEnd - m->cStart, nv = m->vEnd - m->vStart, nc = 0, *slot, *vbody;
+  PetscReal      L   = pb->units.L, *cells, *nodal = NULL, *cand, *best;
+  M2dMeshArrays  ar;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)m->dm);
+  const char    *kind[3] = {"von_mises_max", "von_mises_nodal_max", "displacement_max"};
+
+  PetscFunctionBeginUser;
+  PetscCall(CellFields(pb, sol->u, pb->units.S, &cells));
+  if (sol->sv) PetscCall(NodalFields(pb, sol->sv, &nodal));
+  PetscCall(PetscMalloc4(3 * (nlc + 2 * nv) + 1, &cand, nlc + 2 * nv + 1, &slot, nv + 1, &vbody, 9 * nb + 1, &best));
+  PetscCall(MeshArraysOpen(m, sol->u, &ar));
+  for (PetscInt c = 0; c < nlc; c++) {
+    PetscReal xy[8];
+    MeshCellCoordinates(m, ar.ca, ar.cs, c + m->cStart, xy);
+    cand[3 * nc] = cells[M2D_CELL_FIELDS * c + 4], cand[3 * nc + 1] = 0.25 * (xy[0] + xy[2] + xy[4] + xy[6]) * L, cand[3 * nc + 2] = 0.25 * (xy[1] + xy[3] + xy[5] + xy[7]) * L;
+    slot[nc++] = 3 * m->cellbody[c];
+    for (int k = 0; k < 4; k++) vbody[m->cellverts[4 * c + k] - m->vStart] = m->cellbody[c];
+  }
+  for (PetscInt v = 0; v < nv; v++) {
+    PetscInt  oc, ou;
+    PetscReal x, y;
+    PetscCall(PetscSectionGetOffset(ar.cs, v + m->vStart, &oc));
+    PetscCall(PetscSectionGetOffset(ar.lsec, v + m->vStart, &ou));
+    x = PetscRealPart(ar.ca[oc]) * L, y = PetscRealPart(ar.ca[oc + 1]) * L;
+    if (nodal) cand[3 * nc] = nodal[M2D_NODAL_FIELDS * v + 4], cand[3 * nc + 1] = x, cand[3 * nc + 2] = y, slot[nc++] = 3 * vbody[v] + 1;
+    cand[3 * nc] = PetscSqrtReal(PetscSqr(PetscRealPart(ar.ua[ou])) + PetscSqr(PetscRealPart(ar.ua[ou + 1]))) * pb->units.U, cand[3 * nc + 1] = x, cand[3 * nc + 2] = y;
+    slot[nc++] = 3 * vbody[v] + 2;
+  }
+  PetscCall(MeshArraysClose(&ar));
+  PetscCall(SlotMaxima(comm, 3 * nb, nc, cand, slot, best));
+  for (PetscInt b = 0; b < nb; b++) {
+    char line[512];
+    int  len = snprintf(line, sizeof(line), "body '%s':", pb->s.body[b].name);
+    PetscCall(M2dSummaryListString(sum, "body_results", b, "name", pb->s.body[b].name));
+    for (int k = 0; k < 3; k++) {
+      const PetscReal *q = &best[3 * (3 * b + k)];
+      char             at[64];
+      if (q[0] < 0) continue; /* no nodal stresses (-error_estimate false), or no cells */
+      PetscCall(M2dSummaryListReal(sum, "body_results", b, kind[k], q[0]));
+      PetscCall(PetscSNPrintf(at, sizeof(at), "%s_at", kind[k]));
+      PetscCall(M2dSummaryListArray(sum, "body_results", b, at, 2, &q[1]));
+      if (len < (int)sizeof(line)) len += snprintf(line + len, sizeof(line) - (size_t)len, "%s %s %.6g at (%.6g, %.6g)", k ? "," : "", k == 0 ? "von Mises max (cells)" : k == 1 ? "nodal" : "displacement max", (double)q[0], (double)q[1], (double)q[2]);
+    }
+    if (b < M2D_LINES_MAX) PetscCall(PetscPrintf(comm, "%s\n", line));
+  }
+  if (nb > M2D_LINES_MAX) PetscCall(PetscPrintf(comm, "(%" PetscInt_FMT " more bodies: every body's figures are in the summary's body_results)\n", nb - M2D_LINES_MAX));
+  PetscCall(PetscFree4(cand, slot, vbody, best));
+  PetscCall(PetscFree(nodal));
+  PetscCall(PetscFree(cells));
   PetscFunctionReturn(0);
 }
 
@@ -438,33 +576,7 @@ PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerifica
     PetscCall(SummarizeUniform(pb, f, sum));
     PetscCall(PetscFree(f));
   } else if (pb->s.exact == M2D_EXACT_MMS) PetscCall(SummarizeMMS(pb, sol->u, sum));
-  PetscFunctionReturn(0);
-}
-
-/* the recovered stresses per local vertex in the user's units: sigma_x,
- * sigma_y, sigma_z (plane strain: nu (sigma_x + sigma_y) of the vertex's body),
- * sigma_xy, von Mises; M2D_NODAL_FIELDS each */
-#define M2D_NODAL_FIELDS 5
-static PetscErrorCode NodalFields(const M2dProblem *pb, const PetscReal sv[], PetscReal **fields)
-{
-  const M2dMesh *m  = &pb->mesh;
-  PetscInt       nv = m->vEnd - m->vStart;
-  PetscReal     *f, S = pb->units.S;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1(M2D_NODAL_FIELDS * nv + 1, &f));
-  for (PetscInt c = 0; c < m->cEnd - m->cStart; c++) /* sigma_z's factor, by the body of a cell around the vertex */
-    for (int k = 0; k < 4; k++) f[M2D_NODAL_FIELDS * (m->cellverts[4 * c + k] - m->vStart) + 2] = pb->s.plane == M2D_PLANE_STRAIN ? pb->s.body[m->cellbody[c]].nu : 0;
-  for (PetscInt v = 0; v < nv; v++) {
-    /* von Mises from the internal units, then scaled (its squares could overflow in the user's) */
-    PetscReal *o = &f[M2D_NODAL_FIELDS * v], sx = sv[3 * v], sy = sv[3 * v + 1], sxy = sv[3 * v + 2], sz = o[2] * (sx + sy);
-    o[0] = sx * S;
-    o[1] = sy * S;
-    o[2] = sz * S;
-    o[3] = sxy * S;
-    o[4] = PetscSqrtReal(0.5 * ((sx - sy) * (sx - sy) + (sy - sz) * (sy - sz) + (sz - sx) * (sz - sx)) + 3 * sxy * sxy) * S;
-  }
-  *fields = f;
+  PetscCall(SummarizeBodies(pb, sol, sum));
   PetscFunctionReturn(0);
 }
 
@@ -577,7 +689,7 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
   M2dSeries   se    = {0, NULL, NULL};
   PetscBool   friction = (PetscBool)(sol->slip != NULL);
   PetscInt    ns = sol->nstep > 1 && o->paths->h5 ? sol->nstep - 1 : 0; /* the last one is the final state */
-  const char *nname[M2D_NODAL_FIELDS] = {"sigma_x_nodal", "sigma_y_nodal", "sigma_z_nodal", "sigma_xy_nodal", "von_mises_nodal"};
+  const char *nname[M2D_NODAL_FIELDS] = {"sigma_x_nodal", "sigma_y_nodal", "sigma_z_nodal", "sigma_xy_nodal", "von_mises_nodal"}, *names[M2D_MAX_BODIES];
 
   PetscFunctionBeginUser;
   if (pb->has_contact && o->paths->csv) PetscCall(WriteCSV(pb, sol, o));
@@ -595,6 +707,8 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
   se.n = ns, se.time = times, se.step = steps;
   PetscCall(M2dUnitsScaleMesh(&pb->mesh, pb->units.L)); /* the files hold the user's coordinates */
   PetscCall(PetscMemzero(&fs, sizeof(fs)));
+  for (PetscInt b = 0; b < pb->s.nbody; b++) names[b] = pb->s.body[b].name;
+  fs.nbody = pb->s.nbody, fs.body_names = names;
   fs.point[fs.npoint++] = (M2dPointField){"displacement", u, PETSC_TRUE, 0, NULL, 0};
   if (pb->has_contact) PetscCall(InterfaceFields(&pb->contact, u, friction, v, &fs));
   for (int k = 0; nodal && k < M2D_NODAL_FIELDS; k++) fs.point[fs.npoint++] = (M2dPointField){nname[k], NULL, PETSC_FALSE, k, nodal, M2D_NODAL_FIELDS};

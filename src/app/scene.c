@@ -333,6 +333,39 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   PetscFunctionReturn(0);
 }
 
+/* -hertz_pairs N,... and -hertz_radius: entries R or R1:R2 (two cylinders) */
+static PetscErrorCode ReadHertzPairs(PetscOptionItems *PetscOptionsObject, M2dScene *s)
+{
+  char    *list[M2D_MAX_PAIRS];
+  PetscInt n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-hertz_pairs", "the pairs -hertz compares, by number (1, 2, ...); default: the curved ones", M2D_MAX_PAIRS, 0, list, &n));
+  s->hertz_npairs = n;
+  for (PetscInt i = 0; i < n; i++) {
+    char *end;
+    long  v = strtol(list[i], &end, 10);
+    if (end == list[i] || *end || v < 1 || v > M2D_MAX_PAIRS) PetscCall(M2dOptionsDefer("option -hertz_pairs: '%s' is not a pair number (1, 2, ...)", list[i]));
+    else s->hertz_pairs[i] = (PetscInt)v;
+    PetscCall(PetscFree(list[i]));
+  }
+  n = 0;
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-hertz_radius", "Hertz radius R or R1:R2 (two cylinders), for all pairs or one per -hertz_pairs; default: 1", M2D_MAX_PAIRS, 0, list, &n));
+  if (n) s->hertz_nradius = n;
+  for (PetscInt i = 0; i < n; i++) {
+    char *colon = strchr(list[i], ':'), entry[64];
+    PetscCall(PetscStrncpy(entry, list[i], sizeof(entry)));
+    if (colon) *colon = 0;
+    s->hertz_radii[i][1] = 0;
+    PetscCall(ParseReal("-hertz_radius", entry, list[i], &s->hertz_radii[i][0]));
+    if (colon) PetscCall(ParseReal("-hertz_radius", entry, colon + 1, &s->hertz_radii[i][1]));
+    if (colon && strchr(colon + 1, ':')) PetscCall(M2dOptionsDefer("option -hertz_radius: '%s' is not R or R1:R2", entry));
+    else if (!(s->hertz_radii[i][0] > 0) || (colon && !(s->hertz_radii[i][1] > 0))) PetscCall(M2dOptionsDefer("option -hertz_radius: '%s': a radius must be > 0", entry));
+    PetscCall(PetscFree(list[i]));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dScene *s)
 {
   const char *const exact[] = {"none", "uniform", "mms"}; /* order of M2dExact */
@@ -345,7 +378,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-mms_amplitude", "amplitude of the manufactured displacement (-exact mms), not 0", s->mms_amplitude, &s->mms_amplitude, NULL));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-cattaneo", "with -hertz and friction: compare the shear traction with Cattaneo-Mindlin", s->cattaneo, &s->cattaneo));
-  PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (R1 R2/(R1 + R2)), > 0; or R1,R2 per pair", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
+  PetscCall(ReadHertzPairs(PetscOptionsObject, s));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load, > 0; auto: the -pressure's resultant (x2 on a half model), else the contact's", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
@@ -403,7 +436,7 @@ static PetscErrorCode Defaults(M2dScene *s)
   /* by job, as the options are read; every other field 0 */
   *s = (M2dScene){
     .mesh_scale = 1.0, .mesh_partitioner = M2D_PARTITIONER_METIS, .plane = M2D_PLANE_STRAIN,
-    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {1.0}, .strain_limit = 0.1,
+    .mms_amplitude = 1e-3, .mms_wavenumber = PETSC_PI, .hertz_nradius = 1, .hertz_radii = {{1.0, 0}}, .strain_limit = 0.1,
     .nstage = 1, .stage_steps = {1},
     .method = M2D_CONTACT_MORTAR, .unilateral = PETSC_TRUE, .contact_monitor = PETSC_TRUE, .contact_initial = 1,
     .kkt_mat = M2D_KKT_AIJ, .kkt_path = M2D_KKT_PATH_CONDENSED, .kkt_ordering = M2D_ORDERING_AUTO, .kkt_ldlt = PETSC_TRUE, .kkt_condensed_max = 8000,
@@ -476,6 +509,28 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
 
 /* the pairs: the short form as pair 1, each pair's method, no pair twice,
  * each pair's Hertz radius */
+/* the pairs -hertz compares and their radii: -hertz_pairs' (one radius for
+ * all, or one each), or (none named) every pair with one radius, the pairs
+ * with a curved surface chosen once the mesh is read (ProblemCreate) */
+static PetscErrorCode SceneHertzPairs(MPI_Comm comm, M2dScene *s)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < PetscMax(1, s->npair); k++) s->pair[k].hertz = PETSC_FALSE, s->pair[k].hertz_radius = s->hertz_radii[0][1] > 0 ? s->hertz_radii[0][0] * s->hertz_radii[0][1] / (s->hertz_radii[0][0] + s->hertz_radii[0][1]) : s->hertz_radii[0][0];
+  if (!s->hertz) PetscFunctionReturn(0);
+  if (s->hertz_npairs) PetscCheck(s->hertz_nradius == 1 || s->hertz_nradius == s->hertz_npairs, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %d radii for %d pair%s in -hertz_pairs: give one (every listed pair) or one per listed pair", (int)s->hertz_nradius, (int)s->hertz_npairs, s->hertz_npairs == 1 ? "" : "s");
+  else if (s->hertz_nradius > 1 && s->npair <= 1) SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %d radii for the scene's one pair: give R, or R1:R2 for two cylinders (e.g. %g:%g)", (int)s->hertz_nradius, (double)s->hertz_radii[0][0], (double)s->hertz_radii[1][0]);
+  else PetscCheck(s->hertz_nradius == 1, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %d radii: name the pairs they are for with -hertz_pairs (one radius each), or give one R (or R1:R2) for every compared pair", (int)s->hertz_nradius);
+  for (PetscInt i = 0; i < s->hertz_npairs; i++) { /* the listed pairs, each its own radius (in the list's order) */
+    PetscInt         k = s->hertz_pairs[i] - 1;
+    const PetscReal *r = s->hertz_radii[s->hertz_nradius > 1 ? i : 0];
+    PetscCheck(k < s->npair, comm, PETSC_ERR_USER_INPUT, "option -hertz_pairs: pair %d: the scene has %d pair%s", (int)k + 1, (int)s->npair, s->npair == 1 ? "" : "s");
+    PetscCheck(!s->pair[k].hertz, comm, PETSC_ERR_USER_INPUT, "option -hertz_pairs: pair %d is named twice", (int)k + 1);
+    s->pair[k].hertz        = PETSC_TRUE;
+    s->pair[k].hertz_radius = r[1] > 0 ? r[0] * r[1] / (r[0] + r[1]) : r[0];
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
 {
   PetscFunctionBeginUser;
@@ -504,12 +559,7 @@ static PetscErrorCode CheckPairs(MPI_Comm comm, M2dScene *s)
       PetscCheck((strcmp(p->nm, q->nm) || strcmp(p->m, q->m)) && (strcmp(p->nm, q->m) || strcmp(p->m, q->nm)), comm, PETSC_ERR_USER_INPUT, "%s: the same pair as pair %d '%s:%s'", p->what, (int)i + 1, q->nm, q->m);
     }
   }
-  PetscCheck(s->hertz_nradius <= 2 || s->hertz_nradius == 2 * s->npair, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %d radii: give R or R1,R2 for every pair, or R1,R2 for each of the %d pairs", (int)s->hertz_nradius, (int)s->npair);
-  for (PetscInt k = 0; k < PetscMax(1, s->npair); k++) {
-    const PetscReal *r = s->hertz_nradius > 2 ? &s->hertz_radii[2 * k] : s->hertz_radii;
-    s->pair[k].hertz_radius = s->hertz_nradius >= 2 ? r[0] * r[1] / (r[0] + r[1]) : r[0];
-  }
-  s->hertz_radius = s->pair[0].hertz_radius;
+  PetscCall(SceneHertzPairs(comm, s));
   PetscFunctionReturn(0);
 }
 
@@ -552,7 +602,6 @@ static PetscErrorCode CheckScene(MPI_Comm comm, M2dScene *s)
   PetscCheck(s->strain_limit > 0, comm, PETSC_ERR_USER_INPUT, "option -strain_limit: %g must be > 0", (double)s->strain_limit);
   PetscCheck(s->kkt_augment >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: %g must be >= 0", (double)s->kkt_augment);
   PetscCheck(s->kkt_condensed_max >= 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_condensed_max: %" PetscInt_FMT " must be >= 0", s->kkt_condensed_max);
-  for (PetscInt i = 0; i < s->hertz_nradius; i++) PetscCheck(s->hertz_radii[i] > 0, comm, PETSC_ERR_USER_INPUT, "option -hertz_radius: %g must be > 0", (double)s->hertz_radii[i]);
   PetscCall(CheckMumps(comm, s));
   PetscCall(CheckSNESMaxIt(comm));
   PetscCall(CheckTolerances(comm));
@@ -578,7 +627,7 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s)
     own    = (PetscBool)(own && s->pair[k].own_method);
     mortar = (PetscBool)(mortar || (!s->pair[k].own_method && s->pair[k].method == M2D_CONTACT_MORTAR));
   }
-  if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load", "without -hertz"));
+  if (!s->hertz) PetscCall(M2dOptionsNoEffect(comm, "-hertz_radius -hertz_load -hertz_pairs", "without -hertz"));
   if (s->exact != M2D_EXACT_UNIFORM) PetscCall(M2dOptionsNoEffect(comm, "-exact_p -exact_angle -exact_tau", "without -exact uniform"));
   if (s->exact != M2D_EXACT_MMS) PetscCall(M2dOptionsNoEffect(comm, "-mms_amplitude", "without -exact mms"));
   if (!s->npair) PetscCall(M2dOptionsNoEffect(comm, "-contact_method -mortar_basis -contact_unilateral -contact_c -contact_initial -contact_reach", "without a contact pair (-contact_pairs, or -contact_nonmortar and -contact_mortar)"));
@@ -719,7 +768,8 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == M2D_PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
   for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
   PetscCall(PetscPrintf(comm, "\n"));
-  if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
+  for (PetscInt i = 0; s->hertz && i < s->hertz_nradius; i++) /* two cylinders: say what R is */
+    if (s->hertz_radii[i][1] > 0) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g%s, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[i][0], (double)s->hertz_radii[i][1], s->hertz_npairs && s->hertz_nradius > 1 ? " of the pair" : "", (double)(s->hertz_radii[i][0] * s->hertz_radii[i][1] / (s->hertz_radii[i][0] + s->hertz_radii[i][1]))));
   PetscFunctionReturn(0);
 }
 

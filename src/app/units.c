@@ -123,8 +123,7 @@ void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s)
     for (int d = 0; d < 2; d++) s->dir[k].value[d] /= u->U;
   s->reach /= u->L;
   s->contact_c *= u->L * u->U / u->S; /* lambda / c is a weighted gap (length x displacement) */
-  s->hertz_radius *= u->U / (u->L * u->L); /* the radius enters Hertz as the gap x^2/2R: a displacement over a length^2 */
-  for (PetscInt k = 0; k < s->npair; k++) s->pair[k].hertz_radius *= u->U / (u->L * u->L);
+  for (PetscInt k = 0; k < s->npair; k++) s->pair[k].hertz_radius *= u->U / (u->L * u->L); /* the radius enters Hertz as the gap x^2/2R: a displacement over a length^2 */
   s->hertz_load /= u->S * u->L;
   s->exact_p /= u->S;
   s->exact_tau /= u->S;

@@ -824,3 +824,130 @@ PetscErrorCode ContactCattaneo(const M2dContactPair *c, const M2dScene *s, const
   PetscCall(PetscFree2(o, qx));
   PetscFunctionReturn(0);
 }
+
+/* one pair's chains oriented along the edges (body on the left) and a loop
+ * started at its node of least (x, y) without an active multiplier, so that
+ * the order is the geometry's, whatever the gathered numbering (1 or 2
+ * ranks): walk chain from node i0 towards `to` */
+static PetscInt WalkChain(const M2dSurface *s, PetscInt i0, PetscInt to, PetscBool seen[], PetscInt chain[])
+{
+  PetscInt len = 0, i = i0, from = -1;
+  while (i >= 0 && !seen[i]) {
+    PetscInt nx = len == 0 ? to : NextNode(s, i, from);
+    seen[i] = PETSC_TRUE, chain[len++] = i;
+    from = i, i = nx;
+  }
+  return len;
+}
+
+/* the node after i along its edges' direction (-1: none or a branch) */
+static PetscInt Downstream(const M2dSurface *s, PetscInt i)
+{
+  if (s->n2e_ptr[i + 1] - s->n2e_ptr[i] > 2) return -1;
+  for (PetscInt k = s->n2e_ptr[i]; k < s->n2e_ptr[i + 1]; k++)
+    if (s->edge[2 * s->n2e[k]] == i) return s->edge[2 * s->n2e[k] + 1];
+  return -1;
+}
+
+static PetscBool Before(const PetscReal *a, const PetscReal *b)
+{
+  return (PetscBool)(a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]));
+}
+
+PetscErrorCode ContactPairFigures(const M2dContactPair *c, M2dPairFigures *f)
+{
+  const M2dSurface *s = &c->nm;
+  PetscInt         *mult, *chain, *start, nstart = 0;
+  PetscBool        *seen, half = HalfModel(c);
+  PetscReal         peak = 0, lo = PETSC_MAX_REAL, hi = PETSC_MIN_REAL, hw = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(f, sizeof(*f)));
+  f->half_width = -1;
+  PetscCall(PetscMalloc4(s->nnode + 1, &mult, 2 * s->nnode + 2, &chain, s->nnode + 1, &start, s->nnode + 1, &seen));
+  for (PetscInt i = 0; i < s->nnode; i++) mult[i] = -1, seen[i] = PETSC_FALSE;
+  for (PetscInt j = 0; j < c->R.n; j++) {
+    mult[c->R.node[j]] = j;
+    if (c->active[j] != 0) peak = PetscMax(peak, c->pressure[j]);
+    lo = PetscMin(lo, s->x[2 * c->R.node[j]]), hi = PetscMax(hi, s->x[2 * c->R.node[j]]);
+  }
+  /* the chains' first nodes: tails of open chains, then each loop's least node
+   * (an inactive one if it has any), in the order of their (x, y) */
+  for (PetscInt i = 0; i < s->nnode; i++) {
+    PetscBool tail = PETSC_TRUE;
+    for (PetscInt k = s->n2e_ptr[i]; k < s->n2e_ptr[i + 1]; k++) tail = (PetscBool)(tail && s->edge[2 * s->n2e[k] + 1] != i);
+    if (tail) start[nstart++] = i, WalkChain(s, i, Downstream(s, i), seen, chain);
+  }
+  for (PetscInt i0 = 0; i0 < s->nnode; i0++) { /* loops: what the walks from tails left */
+    PetscInt best = -1, len;
+    if (seen[i0]) continue;
+    len = WalkChain(s, i0, Downstream(s, i0), seen, chain);
+    for (PetscInt k = 0; k < len; k++) {
+      PetscInt  i = chain[k], act = mult[i] >= 0 && c->active[mult[i]] != 0, bact = best >= 0 && mult[best] >= 0 && c->active[mult[best]] != 0;
+      if (best < 0 || (act == bact && Before(&s->x[2 * i], &s->x[2 * best])) || (!act && bact)) best = i;
+    }
+    start[nstart++] = best;
+  }
+  for (PetscInt a = 1; a < nstart; a++) /* insertion sort by (x, y): a few chains */
+    for (PetscInt b = a; b > 0 && Before(&s->x[2 * start[b]], &s->x[2 * start[b - 1]]); b--) {
+      PetscInt t = start[b];
+      start[b] = start[b - 1], start[b - 1] = t;
+    }
+  for (PetscInt i = 0; i < s->nnode; i++) seen[i] = PETSC_FALSE;
+  for (PetscInt q = 0; q < nstart; q++) {
+    PetscInt  len = WalkChain(s, start[q], Downstream(s, start[q]), seen, chain), z0 = -1;
+    PetscBool loop = (PetscBool)(len > 2 && Downstream(s, chain[len - 1]) == chain[0]);
+    PetscReal *ds;
+    if (loop) chain[len++] = chain[0]; /* the closing edge */
+    PetscCall(PetscMalloc1(len + 1, &ds));
+    for (PetscInt k = 0; k < len; k++) {
+      PetscInt i = chain[k], act = mult[i] >= 0 && c->active[mult[i]] != 0;
+      ds[k] = k ? PetscSqrtReal(PetscSqr(s->x[2 * i] - s->x[2 * chain[k - 1]]) + PetscSqr(s->x[2 * i + 1] - s->x[2 * chain[k - 1] + 1])) : 0;
+      if (act && peak > 0 && c->pressure[mult[i]] >= (1 - 1e-9) * peak && !f->peak) { /* ties within 1e-9: the first along the surface */
+        f->peak = c->pressure[mult[i]], f->peak_at[0] = s->x[2 * i], f->peak_at[1] = s->x[2 * i + 1];
+      }
+      if (act && z0 < 0) z0 = k;
+      if (act && (k == len - 1 || !(mult[chain[k + 1]] >= 0 && c->active[mult[chain[k + 1]]] != 0))) { /* a zone z0..k */
+        PetscInt  a = chain[z0], b = chain[k];
+        PetscReal zl = 0;
+        for (PetscInt t = z0 + 1; t <= k; t++) zl += ds[t];
+        if (z0 > 0) zl += 0.5 * ds[z0]; /* its ends midway to the neighbours (or at the chain's ends) */
+        if (k + 1 < len) zl += 0.5 * PetscSqrtReal(PetscSqr(s->x[2 * chain[k + 1]] - s->x[2 * b]) + PetscSqr(s->x[2 * chain[k + 1] + 1] - s->x[2 * b + 1]));
+        if (!f->zones) f->from[0] = s->x[2 * a], f->from[1] = s->x[2 * a + 1];
+        f->to[0] = s->x[2 * b], f->to[1] = s->x[2 * b + 1];
+        f->length += zl;
+        f->zones++;
+        { /* its ends at the surface's ends: on x = 0 of a half model (the symmetry plane), or cut */
+          PetscBool e0 = (PetscBool)(z0 == 0 && !loop), e1 = (PetscBool)(k == len - 1 && !loop);
+          PetscBool ax0 = (PetscBool)(e0 && half && PetscAbsReal(s->x[2 * a]) <= 1e-9 * (hi - lo)), ax1 = (PetscBool)(e1 && half && PetscAbsReal(s->x[2 * b]) <= 1e-9 * (hi - lo));
+          hw = !e0 && !e1 ? 0.5 * zl : (e0 != e1 && (ax0 || ax1)) ? zl : -1;
+        }
+        z0 = -1;
+      }
+    }
+    PetscCall(PetscFree(ds));
+  }
+  if (f->zones == 1) f->half_width = hw;
+  PetscCall(PetscFree4(mult, chain, start, seen));
+  PetscFunctionReturn(0);
+}
+
+/* a surface's normal turns at some node by more than 1e-6 rad and less than
+ * 45 degrees (a corner is no curvature) */
+static PetscBool SurfaceCurved(const M2dSurface *s)
+{
+  for (PetscInt i = 0; i < s->nnode; i++) {
+    const PetscReal *a, *b;
+    PetscReal        sn, cs;
+    if (s->n2e_ptr[i + 1] - s->n2e_ptr[i] != 2) continue;
+    a  = &s->normal[2 * s->n2e[s->n2e_ptr[i]]], b = &s->normal[2 * s->n2e[s->n2e_ptr[i] + 1]];
+    sn = PetscAbsReal(a[0] * b[1] - a[1] * b[0]), cs = a[0] * b[0] + a[1] * b[1];
+    if (sn > 1e-6 && cs > 0 && sn < cs) return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
+PetscBool ContactPairCurved(const M2dContactPair *c)
+{
+  return (PetscBool)(SurfaceCurved(&c->nm) || SurfaceCurved(&c->m));
+}

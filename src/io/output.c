@@ -4,6 +4,7 @@
 #include "util.h"
 #include <errno.h>
 #include <hdf5.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -191,7 +192,17 @@ static void VtuHeader(FILE *fp, const Gathered *g, const M2dFieldSet *fs, const 
   uint64_t off = 0, nv = (uint64_t)g->nv, nc = (uint64_t)g->nc;
 
   fprintf(fp, "<?xml version=\"1.0\"?>\n<!-- mortar2d run_id %s -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n", run_id);
-  fprintf(fp, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%llu\" NumberOfCells=\"%llu\">\n", (unsigned long long)nv, (unsigned long long)nc);
+  fprintf(fp, "  <UnstructuredGrid>\n");
+  if (fs->nbody) { /* a string array: each name's characters as numbers, each ended by 0 */
+    fprintf(fp, "    <FieldData>\n      <Array type=\"String\" Name=\"body_names\" NumberOfTuples=\"%d\" format=\"ascii\">\n       ", (int)fs->nbody);
+    for (PetscInt b = 0; b < fs->nbody; b++)
+      for (const char *c = fs->body_names[b];; c++) {
+        fprintf(fp, " %d", (int)(unsigned char)*c);
+        if (!*c) break;
+      }
+    fprintf(fp, "\n      </Array>\n    </FieldData>\n");
+  }
+  fprintf(fp, "    <Piece NumberOfPoints=\"%llu\" NumberOfCells=\"%llu\">\n", (unsigned long long)nv, (unsigned long long)nc);
   fprintf(fp, "      <PointData>\n");
   for (PetscInt k = 0; k < fs->npoint; k++) VtuArray(fp, "Float64", fs->point[k].name, fs->point[k].vector ? 3 : 1, &off, (fs->point[k].vector ? 3 : 1) * nv * sizeof(double));
   fprintf(fp, "      </PointData>\n      <CellData>\n");
@@ -281,11 +292,31 @@ static herr_t H5RunId(hid_t file, const char *run_id)
   return st;
 }
 
+/* the dataset /body_names: fixed-length strings, the cell field body's names */
+static herr_t H5BodyNames(hid_t file, const M2dFieldSet *fs)
+{
+  size_t len = 1;
+  char  *buf;
+  hid_t  type;
+  herr_t st = -1;
+  for (PetscInt b = 0; b < fs->nbody; b++) len = PetscMax(len, strlen(fs->body_names[b]) + 1);
+  buf = (char *)calloc((size_t)fs->nbody, len);
+  type = H5Tcopy(H5T_C_S1);
+  if (buf && type >= 0 && H5Tset_size(type, len) >= 0) {
+    for (PetscInt b = 0; b < fs->nbody; b++) memcpy(buf + (size_t)b * len, fs->body_names[b], strlen(fs->body_names[b]));
+    st = H5Write(file, "/body_names", type, 1, (hsize_t)fs->nbody, 1, buf);
+  }
+  if (type >= 0) H5Tclose(type);
+  free(buf);
+  return st;
+}
+
 static herr_t H5Fields(hid_t file, const Gathered *g, const M2dFieldSet *fs, const char *run_id)
 {
   herr_t st = 0;
   char   name[256];
   st |= H5RunId(file, run_id);
+  if (fs->nbody) st |= H5BodyNames(file, fs);
   st |= H5Group(file, "/geometry");
   st |= H5Group(file, "/topology");
   st |= H5Write(file, "/geometry/vertices", H5T_NATIVE_DOUBLE, 2, (hsize_t)g->nv, 2, g->xy);
@@ -379,6 +410,20 @@ static void WriteXMFGrid(FILE *fp, const char *h5base, const Gathered *g, const 
 static void WriteXMF(FILE *fp, const char *h5base, const Gathered *g, const M2dFieldSet *fs, const M2dSeries *se, PetscReal time_final, const char *run_id)
 {
   fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<!-- mortar2d run_id %s -->\n<Xdmf Version=\"2.0\">\n <Domain>\n", run_id);
+  if (fs->nbody) { /* the cell field body's names, as "0 name, 1 name, ..." (XML-escaped) */
+    fprintf(fp, "  <Information Name=\"body_names\" Value=\"");
+    for (PetscInt b = 0; b < fs->nbody; b++) {
+      fprintf(fp, "%s%d ", b ? ", " : "", (int)b);
+      for (const char *c = fs->body_names[b]; *c; c++) {
+        if (*c == '&') fputs("&amp;", fp);
+        else if (*c == '<') fputs("&lt;", fp);
+        else if (*c == '>') fputs("&gt;", fp);
+        else if (*c == '"') fputs("&quot;", fp);
+        else fputc(*c, fp);
+      }
+    }
+    fprintf(fp, "\"/>\n");
+  }
   if (!se || !se->n) WriteXMFGrid(fp, h5base, g, fs, "", "mortar2d", -1);
   else {
     fprintf(fp, " <Grid Name=\"mortar2d\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
