@@ -4,7 +4,10 @@
  *  - invariance of the rows under a translation and a rotation of both surfaces;
  *  - non-mortar nodes projecting exactly onto mortar nodes and onto the end of
  *    the mortar surface: no NaN, no lost length (zero-length segments dropped);
- *  - the NTS row of a node. */
+ *  - the NTS row of a node;
+ *  - a kinked interface (non-matching nodes, a node of both sides at the
+ *    kink): the segments cover the non-mortar surface once, and lambda = 1
+ *    gives every node the force of a unit pressure on its own edges. */
 #include "contact.h"
 #include "mortar.h"
 
@@ -57,6 +60,45 @@ static PetscErrorCode MortarPair(M2dContactPair *c)
   PetscFunctionBeginUser;
   PetscCall(MortarBuildSegments(&c->nm, &c->m, 0.1, &c->seg));
   PetscCall(MortarRows(&c->nm, &c->m, &c->seg, M2D_MORTAR_STANDARD, &c->R));
+  PetscFunctionReturn(0);
+}
+
+/* Kinked interface: the polyline y = |x| tan(20 deg) for x in [-1, 1] on
+ * both sides, non-mortar (upper body's bottom, left to right) with nodes at
+ * x = -1, -0.6, 0, 0.5, 1 and mortar (lower body's top, right to left) at
+ * x = 1, 0.7, 0.3, 0, -0.3, -1. With every multiplier 1 the rows' column sums
+ * are the forces B^T lambda: on each node of either side, minus the integral
+ * of N_k n over its own edges (n their outward normal), the force of a unit
+ * pressure, for either basis (its functions sum to 1). */
+static PetscErrorCode KinkForces(M2dMortarBasis basis)
+{
+  const PetscReal xn[5] = {-1, -0.6, 0, 0.5, 1}, xm[6] = {1, 0.7, 0.3, 0, -0.3, -1}, tn = PetscTanReal(PETSC_PI / 9);
+  PetscReal       pn[10], pm[12], f[2 * 11] = {0}, want[2 * 11] = {0}, err = 0, len = 0;
+  PetscInt        gn[5], gm[6], en[8], em[10];
+  M2dContactPair  c = {0};
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < 5; i++) pn[2 * i] = xn[i], pn[2 * i + 1] = PetscAbsReal(xn[i]) * tn, gn[i] = 100 + 2 * i;
+  for (int i = 0; i < 6; i++) pm[2 * i] = xm[i], pm[2 * i + 1] = PetscAbsReal(xm[i]) * tn, gm[i] = 2 * i;
+  for (int e = 0; e < 4; e++) en[2 * e] = e, en[2 * e + 1] = e + 1;
+  for (int e = 0; e < 5; e++) em[2 * e] = e, em[2 * e + 1] = e + 1;
+  PetscCall(SurfaceCreate(5, pn, gn, 4, en, &c.nm));
+  PetscCall(SurfaceCreate(6, pm, gm, 5, em, &c.m));
+  PetscCall(MortarBuildSegments(&c.nm, &c.m, 0.1, &c.seg));
+  PetscCall(MortarRows(&c.nm, &c.m, &c.seg, basis, &c.R));
+  for (PetscInt k = 0; k < c.seg.nseg; k++) len += 0.5 * (c.seg.seg[k].zeta[1] - c.seg.seg[k].zeta[0]) * c.nm.len[c.seg.seg[k].nm_edge];
+  for (PetscInt j = 0; j < c.R.n; j++)
+    for (PetscInt k = c.R.ptr[j]; k < c.R.ptr[j + 1]; k++) f[c.R.col[k] >= 100 ? c.R.col[k] - 100 + 12 : c.R.col[k]] += c.R.val[k];
+  for (int s = 0; s < 2; s++) { /* s = 0: mortar edges (columns 0..11), 1: non-mortar (12..21) */
+    const M2dSurface *sf = s ? &c.nm : &c.m;
+    for (PetscInt e = 0; e < sf->nedge; e++)
+      for (int end = 0; end < 2; end++)
+        for (int d = 0; d < 2; d++) want[(s ? 12 : 0) + 2 * sf->edge[2 * e + end] + d] -= 0.5 * sf->len[e] * sf->normal[2 * e + d];
+  }
+  for (int k = 0; k < 22; k++) err = PetscMax(err, PetscAbsReal(f[k] - want[k]));
+  CHECK(PetscAbsReal(len - 2 / PetscCosReal(PETSC_PI / 9)) < 1e-14, "kink (%s): the segments cover the non-mortar surface once (length %.16g)", basis == M2D_MORTAR_DUAL ? "dual" : "standard", (double)len);
+  CHECK(c.R.n == 5 && err < 1e-14, "kink (%s): lambda = 1 gives each node the force of a unit pressure on its edges (error %.1e)", basis == M2D_MORTAR_DUAL ? "dual" : "standard", (double)err);
+  PetscCall(ContactPairDestroy(&c));
   PetscFunctionReturn(0);
 }
 
@@ -144,6 +186,8 @@ int main(int argc, char **argv)
     }
     PetscCall(ContactPairDestroy(&d));
   }
+  PetscCall(KinkForces(M2D_MORTAR_STANDARD));
+  PetscCall(KinkForces(M2D_MORTAR_DUAL));
   PetscCall(PetscFinalize());
   printf("%d failed\n", failures);
   return failures ? 1 : 0;

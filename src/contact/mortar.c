@@ -214,48 +214,96 @@ static PetscErrorCode RowsFinish(RowSet *rs, M2dContactRows *R)
   PetscFunctionReturn(0);
 }
 
-/* The direction of each non-mortar node's row: the bisector of the two
- * surfaces' normals there, the non-mortar node's own (SurfaceNodeNormal,
- * turned to face the mortar side) and the mortar surface's where the node
- * projects, interpolated between the mortar nodes' normals. Both are
- * continuous along the surfaces; the mortar edges' own normals (the report's
- * eq. 9) jump from edge to edge, and a non-mortar side finer than the mortar
- * side feels the jumps as waviness of the surface it is pressed on. The
- * bisector is the normal of the interface once two bodies of one material
- * have pressed each other flat, and the same whichever side is non-mortar (on
- * Hertz's cylinder on a block it halves the converged pressure's distance
- * from Hertz, docs/); on a straight interface it is the interface's normal,
- * as before. The projection is read off the segments of the node's edges: xi
- * is affine in zeta on each, so the segment nearest the node (in zeta) gives
- * xi at the node, clamped to the mortar edge. Nodes without a segment get
- * (0, 0) (they get no row). */
-static PetscErrorCode RowNormals(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscReal n[])
+/* the nodes of surface a that coincide with a node of surface b (within 1e-6
+ * of the shorter edge) whose edges lie on b's edges at that node (their
+ * normals opposite within 1e-6): a vertex of the one polygon both surfaces
+ * are there. From the segments' edges (the only ones that can meet). */
+static void CommonVertices(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscBool cnm[], PetscBool cm[])
 {
-  PetscReal *dist, *mn, *nn;
+  for (PetscInt k = 0; k < S->nseg; k++) {
+    const M2dSegment *sg  = &S->seg[k];
+    PetscReal         tol = 1e-6 * PetscMin(nm->len[sg->nm_edge], m->len[sg->m_edge]);
+    for (int i = 0; i < 2; i++)
+      for (int j = 0; j < 2; j++) {
+        PetscInt a = nm->edge[2 * sg->nm_edge + i], b = m->edge[2 * sg->m_edge + j], na = nm->n2e_ptr[a + 1] - nm->n2e_ptr[a], match = 0;
+        if ((cnm[a] && cm[b]) || na != m->n2e_ptr[b + 1] - m->n2e_ptr[b] || PetscSqr(nm->x[2 * a] - m->x[2 * b]) + PetscSqr(nm->x[2 * a + 1] - m->x[2 * b + 1]) > tol * tol) continue;
+        for (PetscInt p = nm->n2e_ptr[a]; p < nm->n2e_ptr[a + 1]; p++) {
+          const PetscReal *ne = &nm->normal[2 * nm->n2e[p]];
+          for (PetscInt q = m->n2e_ptr[b]; q < m->n2e_ptr[b + 1]; q++) {
+            const PetscReal *nf = &m->normal[2 * m->n2e[q]];
+            if (PetscAbsReal(ne[0] + nf[0]) + PetscAbsReal(ne[1] + nf[1]) <= 1e-6) {
+              match++;
+              break;
+            }
+          }
+        }
+        if (match == na) cnm[a] = cm[b] = PETSC_TRUE;
+      }
+  }
+}
+
+/* the end normals of surface s's edges: the edge's own normal at a common
+ * vertex, the node's normal elsewhere */
+static void EndNormals(const M2dSurface *s, const PetscBool common[], PetscReal *en)
+{
+  for (PetscInt e = 0; e < s->nedge; e++)
+    for (int end = 0; end < 2; end++) {
+      PetscInt i = s->edge[2 * e + end];
+      if (common[i]) {
+        en[4 * e + 2 * end]     = s->normal[2 * e];
+        en[4 * e + 2 * end + 1] = s->normal[2 * e + 1];
+      } else SurfaceNodeNormal(s, i, &en[4 * e + 2 * end]);
+    }
+}
+
+/* the unit vector along a - b (the two normals face each other: |a - b| >= sqrt(2)) */
+static void Bisector(const PetscReal a[2], const PetscReal b[2], PetscReal n[2])
+{
+  PetscReal l;
+  n[0] = a[0] - b[0];
+  n[1] = a[1] - b[1];
+  l    = PetscSqrtReal(n[0] * n[0] + n[1] * n[1]);
+  if (l > 0) n[0] /= l, n[1] /= l;
+}
+
+PetscErrorCode MortarRowNormals(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscReal n[])
+{
+  PetscReal *dist, *enn, *enm, *nn;
+  PetscBool *cnm, *cm;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc3(nm->nnode + 1, &dist, 2 * m->nnode + 1, &mn, 2 * nm->nnode + 1, &nn));
-  for (PetscInt i = 0; i < m->nnode; i++) SurfaceNodeNormal(m, i, &mn[2 * i]);
-  for (PetscInt i = 0; i < nm->nnode; i++) SurfaceNodeNormal(nm, i, &nn[2 * i]);
-  for (PetscInt i = 0; i < nm->nnode; i++) dist[i] = PETSC_MAX_REAL, n[2 * i] = n[2 * i + 1] = 0;
+  PetscCall(PetscMalloc4(2 * nm->nedge + nm->nnode + 1, &dist, 4 * nm->nedge + 1, &enn, 4 * m->nedge + 1, &enm, 2 * nm->nnode + 1, &nn));
+  PetscCall(PetscCalloc2(nm->nnode + 1, &cnm, m->nnode + 1, &cm));
+  CommonVertices(nm, m, S, cnm, cm);
+  EndNormals(nm, cnm, enn);
+  EndNormals(m, cm, enm);
+  for (PetscInt k = 0; k < 2 * nm->nedge + nm->nnode; k++) dist[k] = PETSC_MAX_REAL;
+  for (PetscInt k = 0; k < 2 * nm->nedge; k++) n[2 * k] = n[2 * k + 1] = 0;
+  /* the segment nearest (in zeta) to the node on each of its edges gives, at a
+   * common vertex, that edge's direction; elsewhere the nearest on either edge
+   * gives the node's one direction */
   for (PetscInt k = 0; k < S->nseg; k++) {
     const M2dSegment *sg = &S->seg[k];
-    const PetscInt   *em = &m->edge[2 * sg->m_edge];
+    const PetscReal  *me = &enm[4 * sg->m_edge];
     for (int end = 0; end < 2; end++) { /* node `end` of the non-mortar edge sits at zeta = -1 or +1 */
-      PetscInt  i = nm->edge[2 * sg->nm_edge + end];
-      PetscReal z = end ? 1.0 : -1.0, d = z < sg->zeta[0] ? sg->zeta[0] - z : z > sg->zeta[1] ? z - sg->zeta[1] : 0, xi, l;
-      if (!(d < dist[i])) continue;
-      dist[i] = d;
-      xi      = sg->xi[0] + (sg->xi[1] - sg->xi[0]) * (z - sg->zeta[0]) / (sg->zeta[1] - sg->zeta[0]);
-      xi      = PetscMax(-1.0, PetscMin(1.0, xi));
-      for (int c = 0; c < 2; c++) n[2 * i + c] = 0.5 * (1 - xi) * mn[2 * em[0] + c] + 0.5 * (1 + xi) * mn[2 * em[1] + c];
-      l = PetscSqrtReal(n[2 * i] * n[2 * i] + n[2 * i + 1] * n[2 * i + 1]);
-      for (int c = 0; c < 2 && l > 0; c++) n[2 * i + c] = n[2 * i + c] / l - nn[2 * i + c];
-      l = PetscSqrtReal(n[2 * i] * n[2 * i] + n[2 * i + 1] * n[2 * i + 1]);
-      if (l > 0) n[2 * i] /= l, n[2 * i + 1] /= l;
+      PetscInt  q = 2 * sg->nm_edge + end, i = nm->edge[q], at = cnm[i] ? q : 2 * nm->nedge + i;
+      PetscReal z = end ? 1.0 : -1.0, d = z < sg->zeta[0] ? sg->zeta[0] - z : z > sg->zeta[1] ? z - sg->zeta[1] : 0, xi, mn[2], l;
+      if (!(d < dist[at])) continue;
+      dist[at] = d;
+      xi       = sg->xi[0] + (sg->xi[1] - sg->xi[0]) * (z - sg->zeta[0]) / (sg->zeta[1] - sg->zeta[0]);
+      xi       = PetscMax(-1.0, PetscMin(1.0, xi));
+      for (int c = 0; c < 2; c++) mn[c] = 0.5 * (1 - xi) * me[c] + 0.5 * (1 + xi) * me[2 + c];
+      l = PetscSqrtReal(mn[0] * mn[0] + mn[1] * mn[1]);
+      if (l > 0) mn[0] /= l, mn[1] /= l;
+      Bisector(mn, &enn[2 * q], cnm[i] ? &n[2 * q] : &nn[2 * i]);
     }
   }
-  PetscCall(PetscFree3(dist, mn, nn));
+  for (PetscInt q = 0; q < 2 * nm->nedge; q++) {
+    PetscInt i = nm->edge[q];
+    if (!cnm[i] && dist[2 * nm->nedge + i] < PETSC_MAX_REAL) n[2 * q] = nn[2 * i], n[2 * q + 1] = nn[2 * i + 1];
+  }
+  PetscCall(PetscFree4(dist, enn, enm, nn));
+  PetscCall(PetscFree2(cnm, cm));
   PetscFunctionReturn(0);
 }
 
@@ -265,8 +313,8 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
   PetscReal *n;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(2 * nm->nnode + 1, &n));
-  PetscCall(RowNormals(nm, m, S, n));
+  PetscCall(PetscMalloc1(4 * nm->nedge + 1, &n));
+  PetscCall(MortarRowNormals(nm, m, S, n));
   PetscCall(RowsStart(nm->nnode, &rs));
   for (PetscInt k = 0; k < S->nseg; k++) {
     const M2dSegment *s  = &S->seg[k];
@@ -274,10 +322,10 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
     PetscReal         D[4], M[4];
     MortarSegmentDM(nm, s, basis, D, M);
     for (int i = 0; i < 2; i++) {
-      const PetscReal *nj = &n[2 * en[i]];
+      const PetscReal *ni = &n[4 * s->nm_edge + 2 * i];
       for (int j = 0; j < 2; j++) {
-        PetscCall(RowAddNode(&rs, en[i], nm, en[j], D[2 * i + j], nj, &nm->x[2 * en[i]]));
-        PetscCall(RowAddNode(&rs, en[i], m, em[j], -M[2 * i + j], nj, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], nm, en[j], D[2 * i + j], ni, &nm->x[2 * en[i]]));
+        PetscCall(RowAddNode(&rs, en[i], m, em[j], -M[2 * i + j], ni, &nm->x[2 * en[i]]));
       }
       rs.w[en[i]] += D[2 * i] + D[2 * i + 1];
     }
