@@ -29,11 +29,13 @@ static PetscReal SegmentGap(const M2dSurface *nm, const M2dSurface *m, PetscInt 
 
 PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dSegmentSet *S)
 {
-  PetscInt cap = 4 * (nm->nedge + m->nedge) + 16;
+  PetscInt       cap = 4 * (nm->nedge + m->nedge) + 16, ncand = 0, ccap = 0, *cand = NULL;
+  M2dSurfaceTree tree;
 
   PetscFunctionBeginUser;
   S->nseg = 0;
   PetscCall(PetscMalloc1(cap, &S->seg));
+  PetscCall(SurfaceTreeCreate(m, &tree));
   for (PetscInt e = 0; e < nm->nedge; e++) {
     const PetscReal *a = &nm->x[2 * nm->edge[2 * e]], *b = &nm->x[2 * nm->edge[2 * e + 1]];
     PetscReal        elo[2], ehi[2];
@@ -41,7 +43,12 @@ PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, Pe
       elo[d] = PetscMin(a[d], b[d]) - reach;
       ehi[d] = PetscMax(a[d], b[d]) + reach;
     }
-    for (PetscInt f = 0; f < m->nedge; f++) {
+    /* the mortar edges within reach of e along their normals (a superset of
+     * those the tests below keep, in ascending order: the segments come in
+     * the order of a loop over every mortar edge) */
+    PetscCall(SurfaceTreeNear(&tree, a, b, reach, &ncand, &ccap, &cand));
+    for (PetscInt ci = 0; ci < ncand; ci++) {
+      const PetscInt   f = cand[ci];
       const PetscReal *c = &m->x[2 * m->edge[2 * f]], *d = &m->x[2 * m->edge[2 * f + 1]];
       PetscReal        xa, xb, lo, hi, za, zb, g0, g1;
       M2dSegment         *s;
@@ -90,6 +97,8 @@ PetscErrorCode MortarBuildSegments(const M2dSurface *nm, const M2dSurface *m, Pe
       }
     }
   }
+  PetscCall(PetscFree(cand));
+  PetscCall(SurfaceTreeDestroy(&tree));
   PetscFunctionReturn(0);
 }
 
@@ -341,32 +350,44 @@ PetscErrorCode MortarRows(const M2dSurface *nm, const M2dSurface *m, const M2dSe
   PetscFunctionReturn(0);
 }
 
+/* NTS: the key of mortar edge f for node p (normal nn): |gap| along f's
+ * normal from p's projection, clamped to f, for a facing edge that p projects
+ * onto within reach; -1 otherwise */
+typedef struct {
+  const M2dSurface *m;
+  const PetscReal  *p, *nn;
+  PetscReal         reach;
+} NTSKey;
+
+static PetscReal NTSGap(void *ctx, PetscInt f)
+{
+  const NTSKey *k = (const NTSKey *)ctx;
+  PetscReal     xi, q[2], g;
+  if (k->nn[0] * k->m->normal[2 * f] + k->nn[1] * k->m->normal[2 * f + 1] >= 0) return -1;
+  xi = MortarParam(k->m, f, k->p);
+  if (xi < -1 - 1e-12 || xi > 1 + 1e-12) return -1;
+  EdgePoint(k->m, f, PetscMax(-1.0, PetscMin(1.0, xi)), q);
+  g = PetscAbsReal((k->p[0] - q[0]) * k->m->normal[2 * f] + (k->p[1] - q[1]) * k->m->normal[2 * f + 1]);
+  return g <= k->reach ? g : -1;
+}
+
 PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reach, M2dContactRows *R)
 {
-  RowSet rs;
+  RowSet         rs;
+  M2dSurfaceTree tree;
 
   PetscFunctionBeginUser;
   PetscCall(RowsStart(nm->nnode, &rs));
+  PetscCall(SurfaceTreeCreate(m, &tree));
   for (PetscInt i = 0; i < nm->nnode; i++) {
     const PetscReal *p = &nm->x[2 * i];
-    PetscReal        nn[2], best = PETSC_MAX_REAL, bxi = 0, a = 0;
-    PetscInt         bf = -1;
+    PetscReal        nn[2], best, bxi, a = 0;
+    NTSKey           key = {m, p, nn, reach};
+    PetscInt         bf;
     SurfaceNodeNormal(nm, i, nn);
-    for (PetscInt f = 0; f < m->nedge; f++) {
-      PetscReal xi, q[2], g;
-      if (nn[0] * m->normal[2 * f] + nn[1] * m->normal[2 * f + 1] >= 0) continue;
-      xi = MortarParam(m, f, p);
-      if (xi < -1 - 1e-12 || xi > 1 + 1e-12) continue;
-      xi = PetscMax(-1.0, PetscMin(1.0, xi));
-      EdgePoint(m, f, xi, q);
-      g = (p[0] - q[0]) * m->normal[2 * f] + (p[1] - q[1]) * m->normal[2 * f + 1];
-      if (PetscAbsReal(g) <= reach && PetscAbsReal(g) < best) { /* closest point (seed eq. 6) */
-        best = PetscAbsReal(g);
-        bf   = f;
-        bxi  = xi;
-      }
-    }
+    bf = SurfaceTreeNearest(&tree, p, NTSGap, &key, &best); /* the closest point (seed eq. 6) */
     if (bf < 0) continue;
+    bxi = PetscMax(-1.0, PetscMin(1.0, MortarParam(m, bf, p)));
     for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) a += 0.5 * nm->len[nm->n2e[k]];
     {
       const PetscReal *n  = &m->normal[2 * bf];
@@ -378,6 +399,7 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     rs.w[i]    = a;
     rs.keep[i] = PETSC_TRUE;
   }
+  PetscCall(SurfaceTreeDestroy(&tree));
   PetscCall(RowsFinish(&rs, R));
   PetscFunctionReturn(0);
 }
