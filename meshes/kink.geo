@@ -1,6 +1,6 @@
 // kink.geo -- the hydrostatic patch test across a shaped interface (Q4 only).
-//   lower body: x in [-1,1], from y = -1 up to the interface
-//   upper body: x in [-1,1], from the interface up to y = 1
+//   lower body: x in [-1,1], from y = -H up to the interface
+//   upper body: x in [-1,1], from the interface up to y = H
 // The interface runs from x = -1 to x = 1 through the point (xk, 0):
 //   shape 0: two straight lines meeting at (xk, 0), their directions
 //            tilt - turn/2 and tilt + turn/2 degrees (turn > 0: a valley);
@@ -11,9 +11,9 @@
 // quads along each piece of the interface, ny through each body: nl != nu
 // gives non-matching meshes. Exact answer under pressure p on every free face
 // (lower_free, upper_free): sigma = -p I in both bodies (same material), the
-// contact pressure p; u = -e (x - (xk, -1)) with e the uniform strain, so the
-// supports lower_pin (xk, -1): xy, lower_roll (1, -1): y and upper_pin
-// (xk, 1): x carry no reaction.
+// contact pressure p; u = -e (x - (xk, -H)) with e the uniform strain, so the
+// supports lower_pin (xk, -H): xy, lower_roll (1, -H): y and upper_pin
+// (xk, H): x carry no reaction.
 //   gmsh -2 -format msh41 -setnumber turn 40 -setnumber nu 9 kink.geo -o kink40.msh
 DefineConstant[
   turn  = {20,  Name "Parameters/turn"},
@@ -22,7 +22,8 @@ DefineConstant[
   xk    = {0.2, Name "Parameters/xk"},
   nl    = {7,   Min 1, Step 1, Name "Parameters/nl"},
   nu    = {10,  Min 1, Step 1, Name "Parameters/nu"},
-  ny    = {4,   Min 1, Step 1, Name "Parameters/ny"}
+  ny    = {4,   Min 1, Step 1, Name "Parameters/ny"},
+  H     = {1,   Name "Parameters/H"}
 ];
 
 Mesh.SaveAll = 0;
@@ -82,9 +83,9 @@ Macro MakeBody
   Recombine Surface{t + 1, t + 2};
 Return
 
-t = 0;  yo = -1; n = nl;
+t = 0;  yo = -H; n = nl;
 Call MakeBody;
-t = 20; yo = 1;  n = nu;
+t = 20; yo = H;  n = nu;
 Call MakeBody;
 
 // gmsh orients the quads by the curve loops: the lower body's loops run

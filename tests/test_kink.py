@@ -6,8 +6,9 @@ nu)(1 - 2 nu) / E (plane strain) and x0 the lower body's pin.
 
 - Kinks (two straight lines meeting at a node of both sides) turning by 0, 10,
   20, 40 degrees, non-matching (7:10) and matching (8:8) meshes, a tilted
-  ridge (turn -40), and a circular arc with matching nodes (a polygon with a
-  kink of 5 degrees at every node): mortar exact to 1e-10 of p (stresses in
+  ridge (turn -40), a circular arc with matching nodes (a polygon with a kink
+  of 5 degrees at every node), and corners of 60, 90 (both meshes) and 120
+  degrees (once refused): mortar exact to 1e-10 of p (stresses in
   cells and at nodes, every nodal pressure) and of the largest displacement,
   standard and dual multipliers, either body non-mortar, 1 and 2 ranks.
 - A circular arc with non-matching nodes: the two sides are two different
@@ -57,6 +58,7 @@ def hydrostatic(name, msh, x0, nm, basis, ranks=1):
 # ---------- exact: kinks, a ridge, an arc with matching nodes ----------
 cases = [("kink_%d%s" % (t, m), (0.2, -1)) for t in (0, 10, 20, 40) for m in ("", "_match")]
 cases += [("kink_ridge", (-0.3, -1)), ("arc_40_match", (0.2, -1))]
+cases += [("kink_60", (0.2, -1)), ("kink_90", (0.2, -2)), ("kink_90_match", (0.2, -2)), ("kink_120", (0.2, -3))]
 print("%-14s %-5s %-9s %5s %10s %10s %10s" % ("mesh", "nm", "basis", "ranks", "stress", "pressure", "u"))
 for msh, x0 in cases:
     for nm in ("upper", "lower"):

@@ -65,14 +65,18 @@ void           MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMor
  * the node, the non-mortar node's and the mortar surface's where the node
  * projects (read off e's segment nearest the node), each taken from its
  * edge's end normals: the node's normal (SurfaceNodeNormal), continuous along
- * a curved surface, except at a common vertex, a node of both surfaces at one
- * point whose edges lie on each other (a kink of the interface, or any node of
- * coincident polygons, as matching meshes are), where it is the edge's own
- * normal. So
+ * a curved surface, except at a sharp node, where it is the edge's own
+ * normal: a common vertex, a node of both surfaces at one point whose edges
+ * lie on each other (a kink of the interface, or any node of coincident
+ * polygons, as matching meshes are), or a corner of its surface (a turn of
+ * more than M2D_SURFACE_CORNER degrees: the edges' averaged normal would be
+ * the normal of neither). So
  *  - on coincident polygons a row's direction on an edge is that edge's
  *    normal, and a uniform pressure lambda = p gives every node of either side
  *    the force of p on its own edges: the hydrostatic patch test is exact
  *    across kinks (tests/test_kink.py);
+ *  - at a corner each edge is pressed along its own normal (a groove's lip,
+ *    a punch's sharp edge: the same answer as a surface ended there);
  *  - elsewhere a row has one direction on both its edges, the bisector of the
  *    continuous normals (on Hertz's cylinder on a block it halves the
  *    converged pressure's distance from Hertz against the mortar edges' own
@@ -82,6 +86,18 @@ void           MortarSegmentDM(const M2dSurface *nm, const M2dSegment *s, M2dMor
  * A tangential (friction) row takes t = (-n_y, n_x) of the same n per row and
  * edge (MortarRows with n turned). Not collective. */
 PetscErrorCode MortarRowNormals(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscReal n[]);
+/* A convex corner of the mortar surface (a turn of more than
+ * M2D_SURFACE_CORNER degrees, not a common vertex: MortarRowNormals) that a
+ * non-mortar row reaches on both sides (its edges have segments on mortar
+ * edges before and after the corner along the surface: a ridge, or a
+ * groove's lip with the groove's floor within reach). The contact holds the
+ * non-mortar nodes and each row's weighted gap averages the gaps on both
+ * sides, so such a corner passes between the nodes (a groove's lip under a
+ * punch: 27% of the displacement, docs/trust.md). A corner reached on one
+ * side only (a punch's edge where the contact ends) is the same as the
+ * surface ended there. *corner: the first such mortar node, -1 if none;
+ * *turn in degrees. Not collective. */
+PetscErrorCode MortarReachedCorner(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscInt *corner, PetscReal *turn);
 /* The contact rows of the segments S (one per non-mortar node the mortar
  * surface covers), or of node-to-segment projection within reach (NTS); the
  * same on every rank; *R is the caller's (ContactRowsDestroy). Not collective. */

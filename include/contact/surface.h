@@ -9,6 +9,11 @@
 #define M2D_SURFACE_H
 #include "mesh.h"
 
+/* degrees: a surface that turns by more at a node has a corner there (its
+ * edges' averaged normal is the normal of neither: mortar.c takes each
+ * edge's own) */
+#define M2D_SURFACE_CORNER 45.0
+
 typedef struct {
   PetscInt   nnode, nedge;
   PetscReal *x;       /* 2 per node */

@@ -47,7 +47,12 @@ static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L
   c->reach = s->reach;
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   if (M2dMethodOf(c->method, c->basis)->segments) {
+    PetscInt  corner;
+    PetscReal turn;
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
+    PetscCall(MortarReachedCorner(&c->nm, &c->m, &c->seg, &corner, &turn));
+    PetscCheck(corner < 0, comm, PETSC_ERR_USER_INPUT, "%s: mortar surface '%s' has a corner at (%g, %g), turning by %.0f degrees, that '%s' reaches on both sides (within -contact_reach): the contact holds the non-mortar nodes, so the corner would pass between them; make '%s' the non-mortar side (its corner then holds), end the curve at the corner if nothing beyond it can touch, or round the corner", c->def->what, c->def->m,
+               (double)(L * c->m.x[2 * corner]), (double)(L * c->m.x[2 * corner + 1]), (double)turn, c->def->nm, c->def->m);
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, &c->R));
   } else PetscCall(NTSRows(&c->nm, &c->m, c->reach, &c->R));
   if (c->R.n == 0) PetscCall(NoRows(comm, c, s, L));

@@ -234,13 +234,15 @@ static void CommonVertices(const M2dSurface *nm, const M2dSurface *m, const M2dS
     PetscReal         tol = 1e-6 * PetscMin(nm->len[sg->nm_edge], m->len[sg->m_edge]);
     for (int i = 0; i < 2; i++)
       for (int j = 0; j < 2; j++) {
-        PetscInt a = nm->edge[2 * sg->nm_edge + i], b = m->edge[2 * sg->m_edge + j], na = nm->n2e_ptr[a + 1] - nm->n2e_ptr[a], match = 0;
+        PetscInt a = nm->edge[2 * sg->nm_edge + i], b = m->edge[2 * sg->m_edge + j], na = nm->n2e_ptr[a + 1] - nm->n2e_ptr[a], match = 0, used = 0;
         if ((cnm[a] && cm[b]) || na != m->n2e_ptr[b + 1] - m->n2e_ptr[b] || PetscSqr(nm->x[2 * a] - m->x[2 * b]) + PetscSqr(nm->x[2 * a + 1] - m->x[2 * b + 1]) > tol * tol) continue;
-        for (PetscInt p = nm->n2e_ptr[a]; p < nm->n2e_ptr[a + 1]; p++) {
+        if (na > 8) continue; /* a branch: no polygon */
+        for (PetscInt p = nm->n2e_ptr[a]; p < nm->n2e_ptr[a + 1]; p++) { /* each edge on its own edge of the other side */
           const PetscReal *ne = &nm->normal[2 * nm->n2e[p]];
           for (PetscInt q = m->n2e_ptr[b]; q < m->n2e_ptr[b + 1]; q++) {
             const PetscReal *nf = &m->normal[2 * m->n2e[q]];
-            if (PetscAbsReal(ne[0] + nf[0]) + PetscAbsReal(ne[1] + nf[1]) <= 1e-6) {
+            if (!(used & (1 << (q - m->n2e_ptr[b]))) && PetscAbsReal(ne[0] + nf[0]) + PetscAbsReal(ne[1] + nf[1]) <= 1e-6) {
+              used |= 1 << (q - m->n2e_ptr[b]);
               match++;
               break;
             }
@@ -251,8 +253,20 @@ static void CommonVertices(const M2dSurface *nm, const M2dSurface *m, const M2dS
   }
 }
 
-/* the end normals of surface s's edges: the edge's own normal at a common
- * vertex, the node's normal elsewhere */
+/* mark the corners of surface s: nodes where it turns by more than
+ * M2D_SURFACE_CORNER degrees, where the average of the edges' normals is
+ * the normal of neither */
+static void Corners(const M2dSurface *s, PetscBool sharp[])
+{
+  const PetscReal cmin = PetscCosReal(M2D_SURFACE_CORNER * PETSC_PI / 180);
+  for (PetscInt i = 0; i < s->nnode; i++) {
+    const PetscInt *e = &s->n2e[s->n2e_ptr[i]];
+    if (s->n2e_ptr[i + 1] - s->n2e_ptr[i] == 2 && s->normal[2 * e[0]] * s->normal[2 * e[1]] + s->normal[2 * e[0] + 1] * s->normal[2 * e[1] + 1] < cmin) sharp[i] = PETSC_TRUE;
+  }
+}
+
+/* the end normals of surface s's edges: the edge's own normal at a sharp
+ * node (a common vertex or a corner), the node's normal elsewhere */
 static void EndNormals(const M2dSurface *s, const PetscBool common[], PetscReal *en)
 {
   for (PetscInt e = 0; e < s->nedge; e++)
@@ -284,12 +298,14 @@ PetscErrorCode MortarRowNormals(const M2dSurface *nm, const M2dSurface *m, const
   PetscCall(PetscMalloc4(2 * nm->nedge + nm->nnode + 1, &dist, 4 * nm->nedge + 1, &enn, 4 * m->nedge + 1, &enm, 2 * nm->nnode + 1, &nn));
   PetscCall(PetscCalloc2(nm->nnode + 1, &cnm, m->nnode + 1, &cm));
   CommonVertices(nm, m, S, cnm, cm);
+  Corners(nm, cnm);
+  Corners(m, cm);
   EndNormals(nm, cnm, enn);
   EndNormals(m, cm, enm);
   for (PetscInt k = 0; k < 2 * nm->nedge + nm->nnode; k++) dist[k] = PETSC_MAX_REAL;
   for (PetscInt k = 0; k < 2 * nm->nedge; k++) n[2 * k] = n[2 * k + 1] = 0;
   /* the segment nearest (in zeta) to the node on each of its edges gives, at a
-   * common vertex, that edge's direction; elsewhere the nearest on either edge
+   * sharp node, that edge's direction; elsewhere the nearest on either edge
    * gives the node's one direction */
   for (PetscInt k = 0; k < S->nseg; k++) {
     const M2dSegment *sg = &S->seg[k];
@@ -313,6 +329,82 @@ PetscErrorCode MortarRowNormals(const M2dSurface *nm, const M2dSurface *m, const
   }
   PetscCall(PetscFree4(dist, enn, enm, nn));
   PetscCall(PetscFree2(cnm, cm));
+  PetscFunctionReturn(0);
+}
+
+/* the mortar surface walked as chains (open ends first, then closed loops):
+ * epos[e] the edge's place in its chain, npos[i] the place of the edge that
+ * leaves node i (the one that arrives: npos[i] - 1), chain[] and loop[]
+ * per node, len[] per chain. PETSC_FALSE if a node has more than two edges. */
+static PetscBool ChainWalk(const M2dSurface *m, PetscInt epos[], PetscInt npos[], PetscInt chain[], PetscBool loop[], PetscInt len[])
+{
+  PetscInt nch = 0;
+  for (PetscInt i = 0; i < m->nnode; i++) {
+    if (m->n2e_ptr[i + 1] - m->n2e_ptr[i] > 2) return PETSC_FALSE;
+    chain[i] = -1;
+  }
+  for (int pass = 0; pass < 2; pass++)
+    for (PetscInt i0 = 0; i0 < m->nnode; i0++) {
+      PetscInt i = i0, k = 0;
+      if (chain[i0] >= 0 || (pass == 0 && m->n2e_ptr[i0 + 1] - m->n2e_ptr[i0] != 1)) continue;
+      while (i >= 0 && chain[i] < 0) { /* follow the edges that leave i (body on the left: edge[2 e] == i) */
+        PetscInt next = -1;
+        chain[i] = nch, loop[i] = (PetscBool)pass, npos[i] = k;
+        for (PetscInt q = m->n2e_ptr[i]; q < m->n2e_ptr[i + 1]; q++)
+          if (m->edge[2 * m->n2e[q]] == i) epos[m->n2e[q]] = k, next = m->edge[2 * m->n2e[q] + 1];
+        k++;
+        i = next;
+      }
+      len[nch++] = k;
+    }
+  return PETSC_TRUE;
+}
+
+PetscErrorCode MortarReachedCorner(const M2dSurface *nm, const M2dSurface *m, const M2dSegmentSet *S, PetscInt *corner, PetscReal *turn)
+{
+  PetscBool      *cnm, *cm, *loop;
+  PetscInt       *epos, *npos, *chain, *len, *lo, *hi, *ch;
+  const PetscReal cmin = PetscCosReal(M2D_SURFACE_CORNER * PETSC_PI / 180);
+
+  PetscFunctionBeginUser;
+  *corner = -1;
+  *turn   = 0;
+  PetscCall(PetscCalloc3(nm->nnode + 1, &cnm, m->nnode + 1, &cm, m->nnode + 1, &loop));
+  PetscCall(PetscMalloc4(m->nedge + 1, &epos, m->nnode + 1, &npos, m->nnode + 1, &chain, m->nnode + 1, &len));
+  PetscCall(PetscMalloc3(nm->nnode + 1, &lo, nm->nnode + 1, &hi, nm->nnode + 1, &ch));
+  if (ChainWalk(m, epos, npos, chain, loop, len)) {
+    CommonVertices(nm, m, S, cnm, cm);
+    /* the mortar edges each non-mortar node's row reaches: their places in one chain */
+    for (PetscInt i = 0; i < nm->nnode; i++) lo[i] = PETSC_MAX_INT, hi[i] = -1, ch[i] = -1;
+    for (PetscInt k = 0; k < S->nseg; k++) {
+      PetscInt f = S->seg[k].m_edge, c = chain[m->edge[2 * f]];
+      for (int end = 0; end < 2; end++) {
+        PetscInt i = nm->edge[2 * S->seg[k].nm_edge + end];
+        if (ch[i] == -1) ch[i] = c;
+        if (ch[i] != c) ch[i] = -2; /* two chains: no corner between them */
+        lo[i] = PetscMin(lo[i], epos[f]), hi[i] = PetscMax(hi[i], epos[f]);
+      }
+    }
+    for (PetscInt c = 0; c < m->nnode && *corner < 0; c++) { /* a convex corner, not shared, that a row reaches on both sides */
+      const PetscInt *e = &m->n2e[m->n2e_ptr[c]];
+      PetscInt        in, out;
+      PetscReal       cs;
+      if (m->n2e_ptr[c + 1] - m->n2e_ptr[c] != 2 || cm[c]) continue;
+      cs = m->normal[2 * e[0]] * m->normal[2 * e[1]] + m->normal[2 * e[0] + 1] * m->normal[2 * e[1] + 1];
+      in  = m->edge[2 * e[0] + 1] == c ? e[0] : e[1];
+      out = in == e[0] ? e[1] : e[0];
+      /* body on the left: the normals turning left is a convex corner */
+      if (!(cs < cmin) || !(m->normal[2 * in] * m->normal[2 * out + 1] - m->normal[2 * in + 1] * m->normal[2 * out] > 0)) continue;
+      for (PetscInt i = 0; i < nm->nnode && *corner < 0; i++) {
+        PetscInt k = npos[c];
+        if (ch[i] != chain[c]) continue;
+        if (loop[c] && 2 * (hi[i] - lo[i]) > len[chain[c]] ? (k <= lo[i] || k > hi[i]) : (lo[i] < k && k <= hi[i])) *corner = c, *turn = PetscAcosReal(PetscMax(-1, cs)) * 180 / PETSC_PI;
+      }
+    }
+  }
+  PetscCall(PetscFree3(cnm, cm, loop));
+  PetscCall(PetscFree4(epos, npos, chain, len));
+  PetscCall(PetscFree3(lo, hi, ch));
   PetscFunctionReturn(0);
 }
 
