@@ -182,7 +182,7 @@ static PetscErrorCode SearchAgainstLoop(void)
         if (dd < -reach || PetscAbsReal(dd) >= best) continue;
         best = PetscAbsReal(dd), el = f, dl = dd;
       }
-      et = SurfaceTreeFacing(&t, a, nn, -reach, &d, &ft);
+      et = SurfaceTreeFacing(&t, a, nn, -reach, PETSC_MAX_REAL, &d, &ft);
       differ += et != el || (el >= 0 && d != dl);
       found += el >= 0;
     }

@@ -69,16 +69,18 @@ PetscErrorCode SurfaceTreeDestroy(M2dSurfaceTree *t);
  * list[0 .. *n); *list grows as needed (*cap its size; free with PetscFree).
  * Every edge whose region meets ab is in it. Not collective. */
 PetscErrorCode SurfaceTreeNear(const M2dSurfaceTree *t, const PetscReal a[2], const PetscReal b[2], PetscReal reach, PetscInt *n, PetscInt *cap, PetscInt **list);
-/* The edge with the least key(ctx, f) (the lowest index among equal keys),
- * over the edges whose key is >= 0 (a negative key: not a candidate), and its
- * key in *best (-1 and PETSC_MAX_REAL: none). key(f) must not be below the
- * distance from p to edge f (less 1e-12 of its length): the tree skips nodes
- * farther from p than the best key so far. Not collective. */
-PetscInt SurfaceTreeNearest(const M2dSurfaceTree *t, const PetscReal p[2], PetscReal (*key)(void *, PetscInt), void *ctx, PetscReal *best);
+/* The edge with the least key(ctx, f) (the lowest index among equal keys)
+ * over the edges whose key is in [0, bound] (a negative key: not a
+ * candidate), and its key in *best (-1 and PETSC_MAX_REAL: none). key(f) must
+ * not be below the distance from p to edge f (less 1e-12 of its length): the
+ * tree skips nodes farther from p than the best key so far, or than bound (a
+ * point with no candidate visits every node within bound of it: keep bound
+ * as small as the question allows). Not collective. */
+PetscInt SurfaceTreeNearest(const M2dSurfaceTree *t, const PetscReal p[2], PetscReal (*key)(void *, PetscInt), void *ctx, PetscReal bound, PetscReal *best);
 /* The edge that point p of another surface (its normal nn there) faces
  * (normals opposed) and projects onto (the foot in the edge), the nearest to
- * p among those at a signed distance d >= dmin along the edge's normal (> 0:
- * outside the edge's body); its d and the foot's parameter in [0, 1] (from
- * the edge's first node). -1: none. Not collective. */
-PetscInt SurfaceTreeFacing(const M2dSurfaceTree *t, const PetscReal p[2], const PetscReal nn[2], PetscReal dmin, PetscReal *d, PetscReal *foot);
+ * p among those at a signed distance d in [dmin, bound] along the edge's
+ * normal (> 0: outside the edge's body); its d and the foot's parameter in
+ * [0, 1] (from the edge's first node). -1: none. Not collective. */
+PetscInt SurfaceTreeFacing(const M2dSurfaceTree *t, const PetscReal p[2], const PetscReal nn[2], PetscReal dmin, PetscReal bound, PetscReal *d, PetscReal *foot);
 #endif

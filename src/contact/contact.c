@@ -23,7 +23,7 @@ static PetscErrorCode NoRows(MPI_Comm comm, const M2dContactPair *c, const M2dSc
   for (PetscInt i = 0; i < c->nm.nnode; i++) { /* each node against the nearest mortar edge it faces */
     PetscReal nn[2], d, t;
     SurfaceNodeNormal(&c->nm, i, nn);
-    if (SurfaceTreeFacing(&tree, &c->nm.x[2 * i], nn, PETSC_MIN_REAL, &d, &t) < 0) continue;
+    if (SurfaceTreeFacing(&tree, &c->nm.x[2 * i], nn, PETSC_MIN_REAL, PETSC_MAX_REAL, &d, &t) < 0) continue;
     deep = PetscMin(deep, d); /* < 0: inside the mortar body */
     near = PetscMin(near, PetscAbsReal(d));
   }

@@ -477,7 +477,7 @@ PetscErrorCode NTSRows(const M2dSurface *nm, const M2dSurface *m, PetscReal reac
     NTSKey           key = {m, p, nn, reach};
     PetscInt         bf;
     SurfaceNodeNormal(nm, i, nn);
-    bf = SurfaceTreeNearest(&tree, p, NTSGap, &key, &best); /* the closest point (seed eq. 6) */
+    bf = SurfaceTreeNearest(&tree, p, NTSGap, &key, reach, &best); /* the closest point (seed eq. 6) */
     if (bf < 0) continue;
     bxi = PetscMax(-1.0, PetscMin(1.0, MortarParam(m, bf, p)));
     for (PetscInt k = nm->n2e_ptr[i]; k < nm->n2e_ptr[i + 1]; k++) a += 0.5 * nm->len[nm->n2e[k]];

@@ -384,11 +384,11 @@ static PetscReal BoxDistance(const M2dTreeNode *nd, const PetscReal p[2])
   return PetscSqrtReal(du * du + dv * dv);
 }
 
-PetscInt SurfaceTreeNearest(const M2dSurfaceTree *t, const PetscReal p[2], PetscReal (*key)(void *, PetscInt), void *ctx, PetscReal *best)
+PetscInt SurfaceTreeNearest(const M2dSurfaceTree *t, const PetscReal p[2], PetscReal (*key)(void *, PetscInt), void *ctx, PetscReal bound, PetscReal *best)
 {
   PetscInt stack[M2D_TREE_STACK], top = 0, bf = -1;
 
-  *best = PETSC_MAX_REAL;
+  *best = bound;
   if (t->s->nedge > 0) stack[top++] = 0;
   while (top > 0) {
     const M2dTreeNode *nd = &t->node[stack[--top]];
@@ -403,9 +403,10 @@ PetscInt SurfaceTreeNearest(const M2dSurfaceTree *t, const PetscReal p[2], Petsc
     for (PetscInt k = nd->first; k < nd->first + nd->count; k++) {
       PetscInt  e = t->perm[k];
       PetscReal d = key(ctx, e);
-      if (d >= 0 && (d < *best || (d == *best && e < bf))) *best = d, bf = e;
+      if (d >= 0 && d <= bound && (bf < 0 || d < *best || (d == *best && e < bf))) *best = d, bf = e;
     }
   }
+  if (bf < 0) *best = PETSC_MAX_REAL;
   return bf;
 }
 
@@ -427,11 +428,11 @@ static PetscReal FacingDistance(void *ctx, PetscInt e)
   return k->d < k->dmin ? -1 : PetscAbsReal(k->d);
 }
 
-PetscInt SurfaceTreeFacing(const M2dSurfaceTree *t, const PetscReal p[2], const PetscReal nn[2], PetscReal dmin, PetscReal *d, PetscReal *foot)
+PetscInt SurfaceTreeFacing(const M2dSurfaceTree *t, const PetscReal p[2], const PetscReal nn[2], PetscReal dmin, PetscReal bound, PetscReal *d, PetscReal *foot)
 {
   FacingKey k = {t->s, p, nn, dmin, 0, 0};
   PetscReal best;
-  PetscInt  e = SurfaceTreeNearest(t, p, FacingDistance, &k, &best);
+  PetscInt  e = SurfaceTreeNearest(t, p, FacingDistance, &k, bound, &best);
   if (e >= 0) {
     FacingDistance(&k, e);
     *d    = k.d;

@@ -168,8 +168,10 @@ static PetscErrorCode PairVerifyReach(const M2dProblem *pb, const M2dContactPair
     PetscInt         e;
     if (held[i]) continue;
     SurfaceNodeNormal(nm, i, nn);
-    /* the nearest mortar edge it faces, not behind it from the start (d > 0: outside the mortar body) */
-    e = SurfaceTreeFacing(&tree, &nm->x[2 * i], nn, -ct->reach, &d, &t);
+    /* the nearest mortar edge it faces, not behind it from the start (d > 0:
+     * outside the mortar body); one farther than the surfaces moved apart
+     * (L d > 2 umax) ends outside it whatever it is */
+    e = SurfaceTreeFacing(&tree, &nm->x[2 * i], nn, -ct->reach, PetscMax(ct->reach, 2 * umax / L) * (1 + 1e-12), &d, &t);
     if (e < 0) continue;
     n = &m->normal[2 * e];
     for (int c = 0; c < 2; c++) {
