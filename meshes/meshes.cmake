@@ -87,13 +87,39 @@ endforeach()
 foreach(l 0 1 2)
   m2d_mesh(indenter_${l} indenter.geo level ${l})
 endforeach()
+# the hydrostatic patch test across shaped interfaces (tests/test_kink.py):
+# kinks turning by 0-40 degrees, non-matching (7:10 quads along each piece)
+# and matching (8:8); a ridge (turn -40, tilted); a circular arc turning by 40
+# degrees, matching and non-matching at 2, 4, 8 x the base mesh
+foreach(t 0 10 20 40)
+  m2d_mesh(kink_${t} kink.geo turn ${t})
+  m2d_mesh(kink_${t}_match kink.geo turn ${t} nl 8 nu 8)
+endforeach()
+m2d_mesh(kink_ridge kink.geo turn -40 tilt 15 xk -0.3 nl 9 nu 6)
+# corners the old 45-degree check refused: kinks of 60, 90, 120 degrees (taller
+# bodies: H), and a square punch on a foundation with a groove (corner.geo:
+# none, away from the punch, under it; tests/test_corner.py)
+m2d_mesh(kink_60 kink.geo turn 60)
+m2d_mesh(kink_90 kink.geo turn 90 H 2)
+m2d_mesh(kink_90_match kink.geo turn 90 H 2 nl 8 nu 8)
+m2d_mesh(kink_120 kink.geo turn 120 H 3)
+foreach(g 0 1 2)
+  m2d_mesh(corner_${g} corner.geo groove ${g})
+endforeach()
+m2d_mesh(arc_40_match kink.geo shape 1 turn 40 nl 8 nu 8)
+foreach(r 2 4 8)
+  math(EXPR nl "7 * ${r}")
+  math(EXPR nu "10 * ${r}")
+  math(EXPR ny "4 * ${r}")
+  m2d_mesh(arc_40_x${r} kink.geo shape 1 turn 40 nl ${nl} nu ${nu} ny ${ny})
+endforeach()
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})
 
 # the .msh files installed with the scenes (cmake --install): every -mesh an
 # options file names, and the levels the scenes' comments offer
 set(M2D_SHIPPED_MESHES)
 foreach(name block patch_uniform seed_patch stack hertz_0 hertz_1 hertz_2 hertz_3 hertz_4 hertz_two_1 hertz_two_2
-             roller_0 roller_1 roller_2 indenter_0 indenter_1 indenter_2 cattaneo_0 cattaneo_1 cattaneo_2 cattaneo_3)
+             roller_0 roller_1 roller_2 indenter_0 indenter_1 indenter_2 cattaneo_0 cattaneo_1 cattaneo_2 cattaneo_3 kink_40)
   list(APPEND M2D_SHIPPED_MESHES ${M2D_MESH_DIR}/${name}.msh)
 endforeach()
 file(GLOB scenes CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/options/*.opts)

@@ -4,7 +4,14 @@
  *  - invariance of the rows under a translation and a rotation of both surfaces;
  *  - non-mortar nodes projecting exactly onto mortar nodes and onto the end of
  *    the mortar surface: no NaN, no lost length (zero-length segments dropped);
- *  - the NTS row of a node. */
+ *  - the NTS row of a node;
+ *  - a kinked interface (non-matching nodes, a node of both sides at the
+ *    kink): the segments cover the non-mortar surface once, and lambda = 1
+ *    gives every node the force of a unit pressure on its own edges;
+ *  - the surface tree against a loop over every edge, on a circle, a wavy
+ *    curve and a long strip at 30 degrees: SurfaceTreeNear holds every edge
+ *    whose region within reach a segment meets, in ascending order;
+ *    SurfaceTreeFacing finds the same edge and distance as the loop. */
 #include "contact.h"
 #include "mortar.h"
 
@@ -57,6 +64,135 @@ static PetscErrorCode MortarPair(M2dContactPair *c)
   PetscFunctionBeginUser;
   PetscCall(MortarBuildSegments(&c->nm, &c->m, 0.1, &c->seg));
   PetscCall(MortarRows(&c->nm, &c->m, &c->seg, M2D_MORTAR_STANDARD, PETSC_FALSE, &c->R));
+  PetscFunctionReturn(0);
+}
+
+/* Kinked interface: the polyline y = |x| tan(20 deg) for x in [-1, 1] on
+ * both sides, non-mortar (upper body's bottom, left to right) with nodes at
+ * x = -1, -0.6, 0, 0.5, 1 and mortar (lower body's top, right to left) at
+ * x = 1, 0.7, 0.3, 0, -0.3, -1. With every multiplier 1 the rows' column sums
+ * are the forces B^T lambda: on each node of either side, minus the integral
+ * of N_k n over its own edges (n their outward normal), the force of a unit
+ * pressure, for either basis (its functions sum to 1). */
+static PetscErrorCode KinkForces(M2dMortarBasis basis)
+{
+  const PetscReal xn[5] = {-1, -0.6, 0, 0.5, 1}, xm[6] = {1, 0.7, 0.3, 0, -0.3, -1}, tn = PetscTanReal(PETSC_PI / 9);
+  PetscReal       pn[10], pm[12], f[2 * 11] = {0}, want[2 * 11] = {0}, err = 0, len = 0;
+  PetscInt        gn[5], gm[6], en[8], em[10];
+  M2dContactPair  c = {0};
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < 5; i++) pn[2 * i] = xn[i], pn[2 * i + 1] = PetscAbsReal(xn[i]) * tn, gn[i] = 100 + 2 * i;
+  for (int i = 0; i < 6; i++) pm[2 * i] = xm[i], pm[2 * i + 1] = PetscAbsReal(xm[i]) * tn, gm[i] = 2 * i;
+  for (int e = 0; e < 4; e++) en[2 * e] = e, en[2 * e + 1] = e + 1;
+  for (int e = 0; e < 5; e++) em[2 * e] = e, em[2 * e + 1] = e + 1;
+  PetscCall(SurfaceCreate(5, pn, gn, 4, en, &c.nm));
+  PetscCall(SurfaceCreate(6, pm, gm, 5, em, &c.m));
+  PetscCall(MortarBuildSegments(&c.nm, &c.m, 0.1, &c.seg));
+  PetscCall(MortarRows(&c.nm, &c.m, &c.seg, basis, PETSC_FALSE, &c.R));
+  for (PetscInt k = 0; k < c.seg.nseg; k++) len += 0.5 * (c.seg.seg[k].zeta[1] - c.seg.seg[k].zeta[0]) * c.nm.len[c.seg.seg[k].nm_edge];
+  for (PetscInt j = 0; j < c.R.n; j++)
+    for (PetscInt k = c.R.ptr[j]; k < c.R.ptr[j + 1]; k++) f[c.R.col[k] >= 100 ? c.R.col[k] - 100 + 12 : c.R.col[k]] += c.R.val[k];
+  for (int s = 0; s < 2; s++) { /* s = 0: mortar edges (columns 0..11), 1: non-mortar (12..21) */
+    const M2dSurface *sf = s ? &c.nm : &c.m;
+    for (PetscInt e = 0; e < sf->nedge; e++)
+      for (int end = 0; end < 2; end++)
+        for (int d = 0; d < 2; d++) want[(s ? 12 : 0) + 2 * sf->edge[2 * e + end] + d] -= 0.5 * sf->len[e] * sf->normal[2 * e + d];
+  }
+  for (int k = 0; k < 22; k++) err = PetscMax(err, PetscAbsReal(f[k] - want[k]));
+  CHECK(PetscAbsReal(len - 2 / PetscCosReal(PETSC_PI / 9)) < 1e-14, "kink (%s): the segments cover the non-mortar surface once (length %.16g)", basis == M2D_MORTAR_DUAL ? "dual" : "standard", (double)len);
+  CHECK(c.R.n == 5 && err < 1e-14, "kink (%s): lambda = 1 gives each node the force of a unit pressure on its edges (error %.1e)", basis == M2D_MORTAR_DUAL ? "dual" : "standard", (double)err);
+  PetscCall(ContactPairDestroy(&c));
+  PetscFunctionReturn(0);
+}
+
+/* a closed circle (shape 0), a wavy open curve (1), a straight strip at 30
+ * degrees (2), n edges, body on the left */
+static PetscErrorCode SearchSurface(int shape, PetscInt n, M2dSurface *s)
+{
+  PetscInt   nn = shape == 0 ? n : n + 1, *g, *e;
+  PetscReal *x;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(2 * nn, &x, nn, &g, 2 * n, &e));
+  for (PetscInt i = 0; i < nn; i++) {
+    PetscReal t = (PetscReal)i / n;
+    g[i]        = 2 * i;
+    if (shape == 0) x[2 * i] = PetscCosReal(2 * PETSC_PI * t), x[2 * i + 1] = PetscSinReal(2 * PETSC_PI * t);
+    else if (shape == 1) x[2 * i] = 4 * t, x[2 * i + 1] = 0.3 * PetscSinReal(9 * t) + 0.05 * PetscSinReal(77 * t);
+    else x[2 * i] = 50 * t * PetscCosReal(PETSC_PI / 6), x[2 * i + 1] = 50 * t * PetscSinReal(PETSC_PI / 6);
+  }
+  for (PetscInt k = 0; k < n; k++) e[2 * k] = k, e[2 * k + 1] = (k + 1) % nn;
+  PetscCall(SurfaceCreate(nn, x, g, n, e, s));
+  PetscCall(PetscFree3(x, g, e));
+  PetscFunctionReturn(0);
+}
+
+/* does a point of segment ab (sampled) lie within reach of edge f along its normal, its foot on f? */
+static PetscBool SampledHit(const M2dSurface *s, PetscInt f, const PetscReal a[2], const PetscReal b[2], PetscReal reach)
+{
+  const PetscReal *p = &s->x[2 * s->edge[2 * f]], *q = &s->x[2 * s->edge[2 * f + 1]], *n = &s->normal[2 * f];
+  for (int k = 0; k <= 200; k++) {
+    PetscReal x[2] = {a[0] + (b[0] - a[0]) * k / 200., a[1] + (b[1] - a[1]) * k / 200.}, l2 = PetscSqr(q[0] - p[0]) + PetscSqr(q[1] - p[1]);
+    PetscReal t = ((x[0] - p[0]) * (q[0] - p[0]) + (x[1] - p[1]) * (q[1] - p[1])) / l2, g = (x[0] - p[0]) * n[0] + (x[1] - p[1]) * n[1];
+    if (t >= 0 && t <= 1 && PetscAbsReal(g) <= reach) return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
+static PetscErrorCode SearchAgainstLoop(void)
+{
+  PetscRandom r;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscRandomCreate(PETSC_COMM_SELF, &r));
+  PetscCall(PetscRandomSetSeed(r, 7));
+  PetscCall(PetscRandomSeed(r));
+  for (int shape = 0; shape < 3; shape++) {
+    M2dSurface     s;
+    M2dSurfaceTree t;
+    PetscInt       n = 0, cap = 0, *list = NULL, missed = 0, unsorted = 0, differ = 0, hits = 0, found = 0;
+    PetscReal      ext;
+    PetscCall(SearchSurface(shape, shape == 2 ? 2000 : 500, &s));
+    PetscCall(SurfaceTreeCreate(&s, &t));
+    ext = s.hi[0] - s.lo[0] + s.hi[1] - s.lo[1];
+    for (int q = 0; q < 300; q++) {
+      PetscReal u[4], a[2], b[2], reach = (q % 3 == 0 ? 0.001 : q % 3 == 1 ? 0.02 : 0.2) * ext, nn[2], d = 0, ft = 0, dl = 0, best = PETSC_MAX_REAL;
+      PetscInt  el = -1, et;
+      for (int k = 0; k < 4; k++) PetscCall(PetscRandomGetValueReal(r, &u[k]));
+      a[0] = s.lo[0] + u[0] * (s.hi[0] - s.lo[0]), a[1] = s.lo[1] + u[1] * (s.hi[1] - s.lo[1]);
+      b[0] = a[0] + 0.02 * ext * (u[2] - 0.5), b[1] = a[1] + 0.02 * ext * (u[3] - 0.5);
+      PetscCall(SurfaceTreeNear(&t, a, b, reach, &n, &cap, &list));
+      for (PetscInt k = 1; k < n; k++) unsorted += list[k] <= list[k - 1];
+      for (PetscInt f = 0; f < s.nedge; f++) {
+        PetscBool in = PETSC_FALSE;
+        if (!SampledHit(&s, f, a, b, reach)) continue;
+        hits++;
+        for (PetscInt k = 0; k < n; k++) in = (PetscBool)(in || list[k] == f);
+        missed += !in;
+      }
+      nn[0] = PetscCosReal(2 * PETSC_PI * u[2]), nn[1] = PetscSinReal(2 * PETSC_PI * u[2]); /* a point of a surface facing some of the edges */
+      for (PetscInt f = 0; f < s.nedge; f++) { /* the loop SurfaceTreeFacing replaces */
+        const PetscReal *p = &s.x[2 * s.edge[2 * f]], *e2 = &s.x[2 * s.edge[2 * f + 1]], *m = &s.normal[2 * f];
+        PetscReal        l2 = PetscSqr(e2[0] - p[0]) + PetscSqr(e2[1] - p[1]), tt, dd;
+        if (nn[0] * m[0] + nn[1] * m[1] >= 0) continue;
+        tt = ((a[0] - p[0]) * (e2[0] - p[0]) + (a[1] - p[1]) * (e2[1] - p[1])) / l2;
+        if (tt < 0 || tt > 1) continue;
+        dd = (a[0] - p[0]) * m[0] + (a[1] - p[1]) * m[1];
+        if (dd < -reach || PetscAbsReal(dd) >= best) continue;
+        best = PetscAbsReal(dd), el = f, dl = dd;
+      }
+      et = SurfaceTreeFacing(&t, a, nn, -reach, PETSC_MAX_REAL, &d, &ft);
+      differ += et != el || (el >= 0 && d != dl);
+      found += el >= 0;
+    }
+    CHECK(hits > 0 && !missed && !unsorted, "surface tree, shape %d: every edge within reach of 300 segments found (%d hits), in ascending order", shape, (int)hits);
+    CHECK(found > 0 && !differ, "surface tree, shape %d: the nearest facing edge and its distance as by a loop over every edge (%d found, %d differ)", shape, (int)found, (int)differ);
+    PetscCall(PetscFree(list));
+    PetscCall(SurfaceTreeDestroy(&t));
+    PetscCall(SurfaceDestroy(&s));
+  }
+  PetscCall(PetscRandomDestroy(&r));
   PetscFunctionReturn(0);
 }
 
@@ -144,6 +280,9 @@ int main(int argc, char **argv)
     }
     PetscCall(ContactPairDestroy(&d));
   }
+  PetscCall(KinkForces(M2D_MORTAR_STANDARD));
+  PetscCall(KinkForces(M2D_MORTAR_DUAL));
+  PetscCall(SearchAgainstLoop());
   PetscCall(PetscFinalize());
   printf("%d failed\n", failures);
   return failures ? 1 : 0;

@@ -3,8 +3,10 @@
  * before any work is done: every physical group the options name exists, has
  * the dimension its option needs and holds elements; what acts through the
  * boundary (loads, contact surfaces, u.n and u.t supports) lies on it; each
- * contact surface lies on one body, a pair joins two bodies, and a contact
- * surface has no corner (its nodal normals average its edges' normals).
+ * contact surface lies on one body and a pair joins two bodies. Corners of
+ * a contact surface are fine (the rows take each edge's own normal there);
+ * a mortar corner the non-mortar surface reaches on both sides is refused
+ * when the segments are built (contact.c, MortarReachedCorner).
  *
  * The mesh's own consistency (cells, orientation, pieces) is checked when it
  * is read (mesh_check.c); what needs the contact search (reach, overlap) when
@@ -12,9 +14,6 @@
 #ifndef M2D_SCENECHECK_H
 #define M2D_SCENECHECK_H
 #include "mesh.h"
-
-/* the sharpest turn between two edges of a contact surface at one node */
-#define M2D_CONTACT_MAX_TURN 45.0 /* degrees (the scenes' curved surfaces turn by 3-11) */
 
 /* Collective on comm; coordinates in messages are the mesh's (call before the
  * units scale it). */

@@ -38,33 +38,20 @@ static PetscErrorCode CheckGroup(MPI_Comm comm, const M2dMesh *m, const char *gr
   PetscFunctionReturn(0);
 }
 
-/* one side of a contact pair: a boundary curve on one body without a corner;
- * its body in *body */
+/* one side of a contact pair: a boundary curve on one body; its body in
+ * *body. Corners are fine: the mortar rows take each edge's own normal there
+ * (mortar.h) */
 static PetscErrorCode CheckContactSide(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, const char *group, const char *opt, PetscInt *body)
 {
   M2dSurface sf;
-  PetscReal  cmin = PetscCosReal(M2D_CONTACT_MAX_TURN * PETSC_PI / 180), worst = 1;
-  PetscInt   at = -1;
 
   PetscFunctionBeginUser;
   PetscCall(CheckGroup(comm, m, group, opt, 1));
   PetscCall(CheckOnBoundary(m, s, group, opt, "a contact surface is part of the boundary"));
   PetscCall(SurfaceGather(m, group, opt, &sf));
   *body = sf.body;
-  for (PetscInt i = 0; i < sf.nnode; i++) { /* the turn between the two edges at a node: the angle of their normals */
-    const PetscInt *e = &sf.n2e[sf.n2e_ptr[i]];
-    PetscReal       c;
-    if (sf.n2e_ptr[i + 1] - sf.n2e_ptr[i] != 2) continue;
-    c = sf.normal[2 * e[0]] * sf.normal[2 * e[1]] + sf.normal[2 * e[0] + 1] * sf.normal[2 * e[1] + 1];
-    if (c < worst) worst = c, at = i;
-  }
-  if (*body < 0 || worst < cmin) {
-    PetscReal x = at >= 0 ? sf.x[2 * at] : 0, y = at >= 0 ? sf.x[2 * at + 1] : 0, deg = PetscAcosReal(PetscMax(-1, worst)) * 180 / PETSC_PI;
-    PetscCall(SurfaceDestroy(&sf));
-    PetscCheck(*body >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", opt, group);
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' turns by %.0f degrees at (%g, %g), more than %.0f: a contact surface's normal at a node averages its two edges' normals, which a corner makes wrong; end the curve at the corner (a part that may touch something else: a pair of its own in -contact_pairs) or round the corner", opt, group, (double)deg, (double)x, (double)y, (double)M2D_CONTACT_MAX_TURN);
-  }
   PetscCall(SurfaceDestroy(&sf));
+  PetscCheck(*body >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: physical curve '%s' lies on more than one body", opt, group);
   PetscFunctionReturn(0);
 }
 

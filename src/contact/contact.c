@@ -11,28 +11,23 @@ typedef struct {
 
 /* no row within reach: say whether the non-mortar surface lies inside the
  * mortar body deeper than the reach (the meshes overlap), or beyond it (a
- * gap), from its nodes' signed distances to the mortar edges they face */
+ * gap), from each node's signed distance to the nearest mortar edge it faces */
 static PetscErrorCode NoRows(MPI_Comm comm, const M2dContactPair *c, const M2dScene *s, PetscReal L)
 {
-  PetscReal deep = 0, near = PETSC_MAX_REAL, ext = PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
-  const char *nmg = c->def->nm, *mg = c->def->m;
+  PetscReal      deep = 0, near = PETSC_MAX_REAL, ext = PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
+  const char    *nmg = c->def->nm, *mg = c->def->m;
+  M2dSurfaceTree tree;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < c->nm.nnode; i++) {
-    const PetscReal *x = &c->nm.x[2 * i];
-    PetscReal        nn[2];
+  PetscCall(SurfaceTreeCreate(&c->m, &tree));
+  for (PetscInt i = 0; i < c->nm.nnode; i++) { /* each node against the nearest mortar edge it faces */
+    PetscReal nn[2], d, t;
     SurfaceNodeNormal(&c->nm, i, nn);
-    for (PetscInt e = 0; e < c->m.nedge; e++) {
-      const PetscReal *a = &c->m.x[2 * c->m.edge[2 * e]], *b = &c->m.x[2 * c->m.edge[2 * e + 1]], *n = &c->m.normal[2 * e];
-      PetscReal        l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]), t, d;
-      if (!(l2 > 0) || nn[0] * n[0] + nn[1] * n[1] >= 0) continue; /* the edge must face the node's surface */
-      t = ((x[0] - a[0]) * (b[0] - a[0]) + (x[1] - a[1]) * (b[1] - a[1])) / l2;
-      if (t < 0 || t > 1) continue;
-      d    = (x[0] - a[0]) * n[0] + (x[1] - a[1]) * n[1]; /* < 0: inside the mortar body */
-      deep = PetscMin(deep, d);
-      near = PetscMin(near, PetscAbsReal(d));
-    }
+    if (SurfaceTreeFacing(&tree, &c->nm.x[2 * i], nn, PETSC_MIN_REAL, PETSC_MAX_REAL, &d, &t) < 0) continue;
+    deep = PetscMin(deep, d); /* < 0: inside the mortar body */
+    near = PetscMin(near, PetscAbsReal(d));
   }
+  PetscCall(SurfaceTreeDestroy(&tree));
   PetscCheck(!(deep < -c->reach), comm, PETSC_ERR_USER_INPUT, "%s: '%s' lies up to %g inside body '%s', behind '%s' (the meshes overlap by %.0f%% of that surface's extent %g), deeper than -contact_reach %g: move the bodies apart in the mesh (or raise -contact_reach past the overlap)",
              c->def->what, nmg, (double)(-deep * L), c->m.body >= 0 ? s->body[c->m.body].name : "?", mg, (double)(-100 * deep / ext), (double)(ext * L), (double)(L * c->reach));
   PetscCheck(near == PETSC_MAX_REAL, comm, PETSC_ERR_USER_INPUT, "%s: the two surfaces are %g apart where they face each other, more than -contact_reach %g: raise -contact_reach or close the gap", c->def->what, (double)(near * L), (double)(L * c->reach));
@@ -53,7 +48,12 @@ static PetscErrorCode PairSetup(const M2dMesh *m, const M2dScene *s, PetscReal L
   if (!s->reach_set) c->reach = 0.1 * PetscSqrtReal(PetscSqr(c->m.hi[0] - c->m.lo[0]) + PetscSqr(c->m.hi[1] - c->m.lo[1]));
   c->mu = c->def->mu;
   if (M2dMethodOf(c->method, c->basis)->segments) {
+    PetscInt  corner;
+    PetscReal turn;
     PetscCall(MortarBuildSegments(&c->nm, &c->m, c->reach, &c->seg));
+    PetscCall(MortarReachedCorner(&c->nm, &c->m, &c->seg, &corner, &turn));
+    PetscCheck(corner < 0, comm, PETSC_ERR_USER_INPUT, "%s: mortar surface '%s' has a corner at (%g, %g), turning by %.0f degrees, that '%s' reaches on both sides (within -contact_reach): the contact holds the non-mortar nodes, so the corner would pass between them; make '%s' the non-mortar side (its corner then holds), end the curve at the corner if nothing beyond it can touch, or round the corner", c->def->what, c->def->m,
+               (double)(L * c->m.x[2 * corner]), (double)(L * c->m.x[2 * corner + 1]), (double)turn, c->def->nm, c->def->m);
     PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, PETSC_FALSE, &c->R));
     if (c->mu > 0) PetscCall(MortarRows(&c->nm, &c->m, &c->seg, c->basis, PETSC_TRUE, &c->T));
   } else {
@@ -284,12 +284,32 @@ static int CmpX(const void *a, const void *b)
   return (p->x > q->x) - (p->x < q->x);
 }
 
-/* the nearest previous node k[0], and k[1] the nearest beyond p as seen from
- * k[0] ((x_k1 - x_k0) . (p - x_k0) > 0; -1 if none), by sweeps outwards in x
- * from the binary-search position */
-static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal x, PetscReal y, PetscInt k[2])
+/* the points xy[0 .. n) sorted along the axis of their larger extent (o[k].x
+ * that coordinate, o[k].y the other): the sweeps below then visit the points
+ * near a query and few others, unless the points crowd both axes */
+static int SweepSort(XYIdx *o, PetscInt n, const PetscReal *xy)
 {
-  PetscInt  lo = 0, hi = n;
+  PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL};
+  int       axis;
+  for (PetscInt k = 0; k < n; k++)
+    for (int d = 0; d < 2; d++) lo[d] = PetscMin(lo[d], xy[2 * k + d]), hi[d] = PetscMax(hi[d], xy[2 * k + d]);
+  axis = hi[1] - lo[1] > hi[0] - lo[0];
+  for (PetscInt k = 0; k < n; k++) {
+    o[k].x = xy[2 * k + axis];
+    o[k].y = xy[2 * k + 1 - axis];
+    o[k].j = k;
+  }
+  qsort(o, (size_t)n, sizeof(XYIdx), CmpX);
+  return axis;
+}
+
+/* the nearest previous node k[0], and k[1] the nearest beyond p as seen from
+ * k[0] ((x_k1 - x_k0) . (p - x_k0) > 0; -1 if none), by sweeps outwards
+ * along o's axis (SweepSort) from the binary-search position */
+static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xyp, int axis, const PetscReal p[2], PetscInt k[2])
+{
+  const PetscReal x = p[axis], y = p[1 - axis];
+  PetscInt        lo = 0, hi = n;
   PetscReal d2[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL};
   k[0] = k[1] = -1;
   while (lo < hi) {
@@ -301,7 +321,7 @@ static void Nearest2(const XYIdx *o, PetscInt n, const PetscReal *xy, PetscReal 
     for (int dir = 0; dir < 2; dir++)
       for (PetscInt i = dir ? lo - 1 : lo; i >= 0 && i < n && PetscSqr(o[i].x - x) < d2[pass]; i += dir ? -1 : 1) {
         PetscReal d = PetscSqr(o[i].x - x) + PetscSqr(o[i].y - y);
-        if (pass == 1 && (o[i].j == k[0] || (o[i].x - xy[2 * k[0]]) * (x - xy[2 * k[0]]) + (o[i].y - xy[2 * k[0] + 1]) * (y - xy[2 * k[0] + 1]) <= 0)) continue;
+        if (pass == 1 && (o[i].j == k[0] || (o[i].x - xyp[2 * k[0] + axis]) * (x - xyp[2 * k[0] + axis]) + (o[i].y - xyp[2 * k[0] + 1 - axis]) * (y - xyp[2 * k[0] + 1 - axis]) <= 0)) continue;
         if (d < d2[pass]) d2[pass] = d, k[pass] = o[i].j;
         if (pass == 1 && k[0] < 0) return;
       }
@@ -315,20 +335,20 @@ static PetscErrorCode PairFillMortar(const M2dContactPair *c, const PetscReal v0
 {
   XYIdx     *o;
   PetscReal *xy;
+  int        axis;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc2(c->R.n + 1, &o, 2 * c->R.n + 1, &xy));
   for (PetscInt j = 0; j < c->R.n; j++) {
-    o[j].x = xy[2 * j] = c->nm.x[2 * c->R.node[j]];
-    o[j].y = xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
-    o[j].j = j;
+    xy[2 * j]     = c->nm.x[2 * c->R.node[j]];
+    xy[2 * j + 1] = c->nm.x[2 * c->R.node[j] + 1];
   }
-  qsort(o, (size_t)c->R.n, sizeof(XYIdx), CmpX);
+  axis = SweepSort(o, c->R.n, xy);
   for (PetscInt i = 0; i < c->m.nnode && c->R.n > 0; i++) {
     const PetscReal *p = &c->m.x[2 * i], *a;
     PetscInt         k[2];
     PetscReal        t = 0, d2;
-    Nearest2(o, c->R.n, xy, p[0], p[1], k);
+    Nearest2(o, c->R.n, xy, axis, p, k);
     a  = &xy[2 * k[0]];
     d2 = PetscSqr(p[0] - a[0]) + PetscSqr(p[1] - a[1]);
     if (k[1] >= 0) {
@@ -429,19 +449,15 @@ static PetscBool EdgeSide(const M2dContactState *st, PetscInt a0, PetscInt b, co
 static PetscErrorCode PairStateMask(const M2dContactState *st, const M2dContactPair *c, const M2dUnits *u, PetscReal cparam, PetscBool mask[])
 {
   XYIdx *o;
+  int    axis;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(st->n + 1, &o));
-  for (PetscInt k = 0; k < st->n; k++) {
-    o[k].x = st->xy[2 * k];
-    o[k].y = st->xy[2 * k + 1];
-    o[k].j = k;
-  }
-  qsort(o, (size_t)st->n, sizeof(XYIdx), CmpX);
+  axis = SweepSort(o, st->n, st->xy);
   for (PetscInt j = 0; j < c->R.n; j++) {
     PetscReal p[2] = {c->nm.x[2 * c->R.node[j]] * u->L, c->nm.x[2 * c->R.node[j] + 1] * u->L}, cw = cparam * c->R.w[j], phi[2], t = 0;
     PetscInt  k[2];
-    Nearest2(o, st->n, st->xy, p[0], p[1], k);
+    Nearest2(o, st->n, st->xy, axis, p, k);
     mask[j] = PETSC_FALSE;
     if (k[0] < 0) continue;
     for (int i = 0; i < 2; i++) phi[i] = k[i] < 0 ? 0 : st->pressure[k[i]] / u->S - cw * st->gap[k[i]] / u->U;

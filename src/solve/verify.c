@@ -187,6 +187,7 @@ static PetscErrorCode PairVerifyReach(const M2dProblem *pb, const M2dContactPair
   const PetscScalar *us;
   PetscReal          umax = 0, worst = 0;
   PetscInt           iworst = -1;
+  M2dSurfaceTree     tree;
 
   PetscFunctionBeginUser;
   PetscCall(SurfaceDisplacements(ct, u, &useq));
@@ -194,28 +195,27 @@ static PetscErrorCode PairVerifyReach(const M2dProblem *pb, const M2dContactPair
   for (PetscInt k = 0; k < 2 * (nm->nnode + m->nnode); k++) umax = PetscMax(umax, U * PetscAbsReal(PetscRealPart(us[k])));
   PetscCall(PetscCalloc1(nm->nnode + 1, &held));
   for (PetscInt j = 0; j < ct->R.n; j++) held[ct->R.node[j]] = PETSC_TRUE;
+  PetscCall(SurfaceTreeCreate(m, &tree));
   for (PetscInt i = 0; i < nm->nnode; i++) { /* the same arithmetic on every rank: no reduction needed */
-    const PetscReal *x = &nm->x[2 * i];
-    PetscReal        nn[2], best = PETSC_MAX_REAL, g = 0;
+    PetscReal        nn[2], t, d, du[2], g;
+    const PetscReal *n;
+    PetscInt         e;
     if (held[i]) continue;
     SurfaceNodeNormal(nm, i, nn);
-    for (PetscInt e = 0; e < m->nedge; e++) {
-      const PetscReal *a = &m->x[2 * m->edge[2 * e]], *b = &m->x[2 * m->edge[2 * e + 1]], *n = &m->normal[2 * e];
-      PetscReal        t, d, l2 = PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]), du[2];
-      if (!(l2 > 0) || nn[0] * n[0] + nn[1] * n[1] >= 0) continue; /* the edge must face the node's surface */
-      t = ((x[0] - a[0]) * (b[0] - a[0]) + (x[1] - a[1]) * (b[1] - a[1])) / l2;
-      if (t < 0 || t > 1) continue;
-      d = (x[0] - a[0]) * n[0] + (x[1] - a[1]) * n[1]; /* > 0: outside the mortar body */
-      if (d < -ct->reach || PetscAbsReal(d) >= best) continue; /* behind the surface from the start: not facing it */
-      best = PetscAbsReal(d);
-      for (int c = 0; c < 2; c++) {
-        PetscReal um = (1 - t) * PetscRealPart(us[2 * (nm->nnode + m->edge[2 * e]) + c]) + t * PetscRealPart(us[2 * (nm->nnode + m->edge[2 * e + 1]) + c]);
-        du[c]        = PetscRealPart(us[2 * i + c]) - um;
-      }
-      g = L * d + U * (du[0] * n[0] + du[1] * n[1]);
+    /* the nearest mortar edge it faces, not behind it from the start (d > 0:
+     * outside the mortar body); one farther than the surfaces moved apart
+     * (L d > 2 umax) ends outside it whatever it is */
+    e = SurfaceTreeFacing(&tree, &nm->x[2 * i], nn, -ct->reach, PetscMax(ct->reach, 2 * umax / L) * (1 + 1e-12), &d, &t);
+    if (e < 0) continue;
+    n = &m->normal[2 * e];
+    for (int c = 0; c < 2; c++) {
+      PetscReal um = (1 - t) * PetscRealPart(us[2 * (nm->nnode + m->edge[2 * e]) + c]) + t * PetscRealPart(us[2 * (nm->nnode + m->edge[2 * e + 1]) + c]);
+      du[c]        = PetscRealPart(us[2 * i + c]) - um;
     }
-    if (best < PETSC_MAX_REAL && g < worst) worst = g, iworst = i;
+    g = L * d + U * (du[0] * n[0] + du[1] * n[1]);
+    if (g < worst) worst = g, iworst = i;
   }
+  PetscCall(SurfaceTreeDestroy(&tree));
   PetscCall(VecRestoreArrayRead(useq, &us));
   PetscCall(VecDestroy(&useq));
   PetscCall(PetscFree(held));
