@@ -232,10 +232,10 @@ static int RunDir(Ctx *c)
   return 0;
 }
 
-/* gmsh's -setnumber survives gmshFinalize (it would leak into later calls), and
- * 4.8 has no parser API: the numbers go in a wrapper .geo that defines them and
- * includes the scene's .geo, where DefineConstant keeps them and Exists sees them.
- * With a size field it also defines m2d_size_field (see remesh.h). */
+/* gmsh 4.8's C API has no -setnumber (no parser API): the numbers go in a
+ * wrapper .geo that defines them and includes the scene's .geo, where
+ * DefineConstant keeps them and Exists sees them. With a size field it also
+ * defines m2d_size_field (see remesh.h). */
 static int WriteWrapper(Ctx *c, const M2dRemeshInput *in, char *path, size_t len)
 {
   char  abs[PATH_MAX];
@@ -558,7 +558,7 @@ static void Child(Ctx *c, const M2dRemeshInput *in, const char *geo, const char 
   if (ierr) Fail(c, "gmsh did not initialise");
   else Run(c, in, geo, msh, &d, &r, t0);
   r.failed = c->failed;
-  snprintf(r.err, sizeof(r.err), "%s", c->failed ? c->err : "");
+  snprintf(r.err, sizeof(r.err), "%s", c->failed && c->err ? c->err : "");
   if (write(child_fd, &r, sizeof(r)) != (ssize_t)sizeof(r)) _exit(2);
   _exit(0); /* no atexit handler of the parent's, no gmshFinalize: the process ends */
 }
