@@ -3,7 +3,9 @@ one non-empty stderr line "mortar2d: error: ..." that names the culprit (file,
 option or physical group), and must leave a previous result in the same
 -output_dir untouched (no temporary files left behind); the -summary is the
 previous one, or, for input found bad after the output paths were checked,
-the summary of the failed run: status "error" and that line.
+the summary of the failed run: status "error" and that line. An unusable
+TMPDIR (read-only, /dev/null, a file, missing: not created) is refused so, on
+1 rank (with mpiexec, mpiexec itself fails in it first, in its own words).
 
 The broken meshes are written into the work directory at test time. Some cases
 also run on 2 ranks; there Open MPI's own "job aborted" banner (written by
@@ -189,6 +191,34 @@ for name, extra, culprits, ranklist in CASES:
             with open(SUMMARY, "wb") as f:  # the next case starts from the good one
                 f.write(GOOD_SUMMARY)
         report(not problems, what, ("; ".join(problems) + " -- stderr: " if problems else "") + line)
+
+# ---------- TMPDIR, checked before MPI starts (Open MPI creates a missing one
+# and fails in an unusable one with some 40 lines). A read-only one needs a user
+# the mode bits bind: as root, the run is made as nobody (setpriv).
+AS_USER = [] if os.geteuid() else (["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"] if shutil.which("setpriv") else None)
+readonly = os.path.join(W, "tmp_readonly")
+os.makedirs(readonly, exist_ok=True)
+os.chmod(readonly, 0o555)
+afile = write("tmp_afile", "not a directory\n")
+missing = os.path.join(W, "tmp_missing")
+shutil.rmtree(missing, ignore_errors=True)
+TMPCASES = [("/dev/null", "/dev/null", "not a directory", []), ("a regular file", afile, "not a directory", []),
+            ("missing", missing, "No such file or directory", [])]
+if AS_USER is None:
+    print("skip read-only TMPDIR: running as root without setpriv")
+else:
+    TMPCASES.append(("read-only" + (" (as nobody)" if AS_USER else ""), readonly, "Permission denied", AS_USER))
+for name, tmp, why, wrapper in TMPCASES:
+    args = ["-options_file", opts("block"), "-mesh", mesh("block"), "-output_dir", OUT, "-summary", SUMMARY]
+    rc, out, err = run(args, check=False, timeout=TIMEOUT, env={"TMPDIR": tmp}, wrapper=wrapper)
+    line, problems = refusal_problems(rc, [l for l in err.splitlines() if l.strip()], ["TMPDIR", "'%s'" % tmp, why])
+    if name == "missing" and os.path.exists(missing):
+        problems.append("the missing TMPDIR was created")
+    keep = preserved()
+    if keep or open(SUMMARY, "rb").read() != GOOD_SUMMARY:
+        problems.append("previous result not preserved: %s" % (keep or "the summary changed"))
+    report(not problems, "TMPDIR %s [1 rank]" % name, ("; ".join(problems) + " -- stderr: " if problems else "") + line)
+os.chmod(readonly, 0o755)
 
 keep = preserved()
 report(not keep, "previous result in %s intact, no .tmp files" % OUT, keep)

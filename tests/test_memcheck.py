@@ -6,6 +6,8 @@ the libraries under it):
   Hertz level 0      options/hertz.opts -mesh <M2D_MESHES>/hertz_0.msh
   bad input          options/patch_uniform.opts -mesh <missing file>
   two pairs          options/stack.opts (three mesh files; three pairs on stack_split)
+  adaptive           options/seed_patch_adapt.opts -adapt_max_steps 2 (gmsh's child
+                     processes have logs of their own, checked alike)
 Each must exit with its usual code (0, 0, 1; the bad input with its one
 "mortar2d: error:" line), and valgrind must report
   - no invalid reads/writes/frees (anywhere),
@@ -26,6 +28,7 @@ is set up (a bad material value, a missing contact group, surfaces that never
 face each other), S2 read from its -mesh_save .h5 and a corrupted .h5, with
 the same assertions; --jobs N (default 2)."""
 import argparse
+import glob
 import os
 import re
 import shutil
@@ -66,6 +69,8 @@ CASES = [
     # several contact pairs (issue 24): two interfaces, the shared-node mesh with three pairs
     ("stack, two pairs, three mesh files", ["-options_file", opts("stack"), "-mesh", ",".join(mesh("stack_%d" % b) for b in (1, 2, 3)), "-dirichlet", "base_bottom:y,base_origin:x,base_left:x,mid_left:x,top_left:x"], 0),
     ("stack_split, three pairs, one shared node", ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-contact_pairs", "mid_bottom_a:base_top,mid_bottom_b:base_top:dual,top_bottom:mid_top:nts"], 0),
+    # the adaptive loop: two meshes, each by gmsh in a child process (its own log), the size field, the estimator
+    ("adaptive, seed_patch_adapt, 2 meshes", ["-options_file", opts("seed_patch_adapt"), "-adapt_max_steps", "2"], 0),
 ]
 # the block with one cell 1e-6 thin: refused while the mesh lists are built (mesh_read.c)
 thin = os.path.join(W, "thin_cell.msh")
@@ -173,14 +178,18 @@ def classify(log):
 def valgrind_case(i, name, args, want_rc):
     out = os.path.join(W, "out%d" % i)
     shutil.rmtree(out, ignore_errors=True)
-    logf = os.path.join(W, "valgrind%d.log" % i)
+    logf = os.path.join(W, "valgrind%d.%%p.log" % i)  # one per process: gmsh's child processes have their own
+    for f in glob.glob(logf.replace("%p", "*")):
+        os.remove(f)
     valgrind = ["valgrind", "--error-exitcode=99", "--leak-check=full", "--errors-for-leak-kinds=definite",
                 "--show-leak-kinds=definite", "--suppressions=" + SUPP, "--num-callers=50", "--track-origins=yes",
                 "--fullpath-after=" + os.path.join(SRC, ""), "--log-file=" + logf]
     r = launch(command(args + ["-output_dir", out, "-contact_monitor", "0"], wrapper=valgrind), timeout=TIMEOUT, env=ENV)
-    log = open(logf, errors="replace").read() if os.path.exists(logf) else ""
-    return dict(name=name, cmd=r.cmd, rc=r.rc, want=want_rc, stdout=r.stdout, stderr=r.stderr, log=log, logf=logf,
-                time=r.wall, out=out)
+    # the program's log last (its pid the smallest): its summary is the one reported
+    logs = [open(f, errors="replace").read() for f in sorted(glob.glob(logf.replace("%p", "*")), key=lambda f: -int(f.split(".")[-2]))]
+    logs = [l for l in logs if "ERROR SUMMARY" in l]  # (Open MPI's orted, forked and exec'd at MPI_Init, has none)
+    return dict(name=name, cmd=r.cmd, rc=r.rc, want=want_rc, stdout=r.stdout, stderr=r.stderr, log="".join(logs), logf=logf,
+                time=r.wall, out=out, processes=len(logs))
 
 
 def check_valgrind(r):
@@ -216,6 +225,8 @@ def check_valgrind(r):
     info = "%.0f s, exit %d, %s errors (%s suppressed), definitely lost %s bytes" % (
         r["time"], r["rc"], summary[-1][0] if summary else "?", summary[-1][2] if summary else "?",
         lost[-1][0] if lost else "0")
+    if r["processes"] > 1:
+        info += " (the program's; gmsh's %d child process(es): %s errors)" % (r["processes"] - 1, "+".join(e for e, _, _ in summary[:-1]))
     if notes:
         info += "; %d library-only report(s) not counted:\n    %s" % (len(notes), "\n    ".join(n[0] for n in notes))
     for head, text in problems:

@@ -2,16 +2,23 @@
  * command-line .msh; parameters act as gmsh's -setnumber and do not leak from one
  * call to the next; a size field refines where it is small, every cell a
  * counter-clockwise convex quad, the bodies separate, physical groups kept, the
- * curved contact surface on its circle; errors name the .geo; the size field
- * alone interpolates, extrapolates and filters by body as documented.
+ * curved contact surface on its circle; errors name the .geo; gmsh's crash is
+ * one line and its memory is bounded; the run's directory in TMPDIR is empty
+ * between calls, and the sweep removes a dead run's, not a live one's; the
+ * size field alone interpolates, extrapolates and filters by body as documented.
  * Meshes from the build: ../meshes/<name>.msh (ctest runs in build/tests). */
 #include "msh.h"
 #include "remesh.h"
+#include "temprecord.h"
+#include <dirent.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -371,126 +378,71 @@ static void TestSizeField(void)
   M2dRemeshFieldDestroy(&f);
 }
 
-/* a mesh in a form that does not depend on the order of nodes and cells:
- * every quad, line and point as the sorted coordinates of its nodes with its
- * group, the lot sorted */
-typedef struct {
-  double c[8];
-  int    dim, phys;
-} Cell;
-
-static int CmpCell(const void *a, const void *b)
+/* the entries of directory d whose names start with prefix */
+static int Entries(const char *d, const char *prefix, char *first, size_t len)
 {
-  const Cell *x = (const Cell *)a, *y = (const Cell *)b;
-  if (x->dim != y->dim) return x->dim - y->dim;
-  if (x->phys != y->phys) return x->phys - y->phys;
-  for (int k = 0; k < 8; k++)
-    if (x->c[k] != y->c[k]) return x->c[k] < y->c[k] ? -1 : 1;
-  return 0;
+  DIR           *dir = opendir(d);
+  struct dirent *e;
+  int            n = 0;
+  while (dir && (e = readdir(dir)))
+    if (!strncmp(e->d_name, prefix, strlen(prefix)) && n++ == 0 && first) snprintf(first, len, "%s/%s", d, e->d_name);
+  if (dir) closedir(dir);
+  return n;
 }
 
-static int CmpLong(const void *a, const void *b)
+/* The run's directory in TMPDIR (made by the first call: TMPDIR is tried
+ * first), a crash of gmsh, gmsh's memory bound, and the sweep of the
+ * directories of runs that are gone. */
+static void TestProcess(const char *tmp)
 {
-  long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
-static int CmpPoint(const void *a, const void *b)
-{
-  const double *x = (const double *)a, *y = (const double *)b;
-  return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] != y[1] ? (x[1] < y[1] ? -1 : 1) : 0;
-}
-
-static Cell *Canonical(const MshMesh *m, long *n)
-{
-  Cell *c = (Cell *)calloc((size_t)(m->nquad + m->nline + m->npoint + 1), sizeof(Cell));
-  *n      = 0;
-  for (int dim = 2; dim >= 0; dim--) {
-    long        ne = dim == 2 ? m->nquad : dim == 1 ? m->nline : m->npoint, nn = dim == 2 ? 4 : dim == 1 ? 2 : 1;
-    const long *node = dim == 2 ? m->quad : dim == 1 ? m->line : m->point;
-    const int  *phys = dim == 2 ? m->quadphys : dim == 1 ? m->linephys : m->pointphys;
-    for (long e = 0; e < ne; e++, (*n)++) {
-      Cell *x = &c[*n];
-      x->dim = dim, x->phys = phys[e];
-      for (int k = 0; k < 4; k++) x->c[2 * k] = x->c[2 * k + 1] = 1e300;
-      for (int k = 0; k < nn; k++) x->c[2 * k] = m->xy[2 * node[nn * e + k]], x->c[2 * k + 1] = m->xy[2 * node[nn * e + k] + 1];
-      qsort(x->c, (size_t)nn, 2 * sizeof(double), CmpPoint);
-    }
-  }
-  qsort(c, (size_t)*n, sizeof(Cell), CmpCell);
-  return c;
-}
-
-/* the nodes of body a's quads all before those of body b's, or all after */
-static int NodesApart(const MshMesh *m, int a, int b)
-{
-  long lo[2] = {LONG_MAX, LONG_MAX}, hi[2] = {-1, -1};
-  for (long q = 0; q < 4 * m->nquad; q++) {
-    int k = m->quadphys[q / 4] == a ? 0 : m->quadphys[q / 4] == b ? 1 : -1;
-    if (k < 0) continue;
-    lo[k] = m->quad[q] < lo[k] ? m->quad[q] : lo[k];
-    hi[k] = m->quad[q] > hi[k] ? m->quad[q] : hi[k];
-  }
-  return hi[0] < lo[1] || hi[1] < lo[0];
-}
-
-/* Three surfaces, two of them sharing a curve (one body), the third apart:
- * with a size field the surfaces go to two gmsh workers (remesh.c, Share)
- * and the meshes are joined; without the split (a .msh to write keeps one
- * worker) the mesh is the same up to the order of nodes and cells, the shared
- * curve's nodes once, element tags distinct. */
-static void TestShares(void)
-{
-  const char *text = "lc = 0.25;\n"
-                     "Point(1) = {0,0,0,lc}; Point(2) = {1,0,0,lc}; Point(3) = {2,0,0,lc}; Point(4) = {2,1,0,lc}; Point(5) = {1,1,0,lc}; Point(6) = {0,1,0,lc};\n"
-                     "Line(1) = {1,2}; Line(2) = {2,5}; Line(3) = {5,6}; Line(4) = {6,1}; Line(5) = {2,3}; Line(6) = {3,4}; Line(7) = {4,5};\n"
-                     "Curve Loop(1) = {1,2,3,4}; Plane Surface(1) = {1}; Curve Loop(2) = {5,6,7,-2}; Plane Surface(2) = {2};\n"
-                     "Point(7) = {3,0,0,lc}; Point(8) = {4,0,0,lc}; Point(9) = {4,1,0,lc}; Point(10) = {3,1,0,lc};\n"
-                     "Line(8) = {7,8}; Line(9) = {8,9}; Line(10) = {9,10}; Line(11) = {10,7}; Curve Loop(3) = {8,9,10,11}; Plane Surface(3) = {3};\n"
-                     "Mesh.RecombineAll = 1; Mesh.SubdivisionAlgorithm = 1;\n"
-                     "Physical Surface(\"left\") = {1,2}; Physical Surface(\"right\") = {3};\n"
-                     "Physical Curve(\"mid\") = {2}; Physical Curve(\"bottom\") = {1,5,8}; Physical Point(\"corner\") = {8};\n";
-  char           geo[] = "/tmp/m2d_test_shares_XXXXXX.geo", msh[] = "/tmp/m2d_test_shares_XXXXXX.msh", err[1024];
+  char           bad[4200], geo[] = "/tmp/m2d_test_remesh_XXXXXX.geo", err[1024], dir[8400], dead[4200], live[4200];
   M2dRemeshInput in = {0};
-  MshMesh        prev, one, two;
-  double        *h;
-  long           n1, n2, dup = 0;
-  Cell          *c1, *c2;
-  NewGeo(geo, text);
-  close(mkstemps(msh, 4));
+  MshMesh        m;
+  int            fd;
+  snprintf(bad, sizeof(bad), "%s/missing", tmp);
+  setenv("TMPDIR", bad, 1);
+  in.geo = Path("meshes/patch_uniform.geo");
+  CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, bad) && strstr(err, "TMPDIR") && strstr(err, "No such file"), "TMPDIR missing: '%s'", err);
+  if (geteuid()) { /* (root writes in it anyway) */
+    snprintf(bad, sizeof(bad), "%s/readonly", tmp);
+    mkdir(bad, 0500);
+    setenv("TMPDIR", bad, 1);
+    CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, bad) && strstr(err, "Permission denied"), "TMPDIR read-only: '%s'", err);
+    rmdir(bad);
+  } else printf("skip TMPDIR read-only: running as root\n");
+  setenv("TMPDIR", tmp, 1);
+  CHECK(!Remesh(&in, &m, err) && Entries(tmp, M2D_REMESH_DIR_PREFIX, dir, sizeof(dir)) == 1 && Entries(dir, "", NULL, 0) == 2, "meshed with this run's directory %s, empty between calls", dir);
+  MshFree(&m);
+  NewGeo(geo, "Mesh.Algorithm = 8; Mesh.RecombineAll = 1;\n" /* gmsh 4.8.4's quad algorithm: a segmentation fault */
+              "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0}; Point(4) = {0, 1, 0};\n"
+              "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+              "Physical Surface(\"square\", 7) = {1};\n");
   in.geo = geo;
-  if (Remesh(&in, &prev, err)) goto out;
-  h = (double *)malloc((size_t)prev.nnode * sizeof(double));
-  for (long i = 0; i < prev.nnode; i++) h[i] = 0.04 + 0.04 * prev.xy[2 * i];
-  in.prev = &prev, in.hnode = h;
-  if (Remesh(&in, &two, err)) goto done;
-  in.write_msh = msh;
-  if (Remesh(&in, &one, err)) {
-    MshFree(&two);
-    goto done;
-  }
-  c1 = Canonical(&one, &n1), c2 = Canonical(&two, &n2);
-  {
-    long *t = (long *)malloc((size_t)two.nquad * sizeof(long)); /* element tags: the joined shares' stay distinct */
-    memcpy(t, two.quadtag, (size_t)two.nquad * sizeof(long));
-    qsort(t, (size_t)two.nquad, sizeof(long), CmpLong);
-    for (long q = 0; q + 1 < two.nquad; q++) dup += t[q] == t[q + 1];
-    free(t);
-  }
-  printf("     shares: %ld nodes, %ld quads (one worker: %ld, %ld)\n", two.nnode, two.nquad, one.nnode, one.nquad);
-  CHECK(one.nnode == two.nnode && n1 == n2 && !memcmp(c1, c2, (size_t)n1 * sizeof(Cell)), "two workers' meshes joined = one worker's mesh, up to the order (nodes %ld/%ld, cells %ld/%ld)", two.nnode, one.nnode, n2, n1);
-  CHECK(NodesApart(&two, PhysTag(&two, 2, "left"), PhysTag(&two, 2, "right")) && !NodesApart(&one, PhysTag(&one, 2, "left"), PhysTag(&one, 2, "right")),
-        "meshed in two shares (each body's nodes in one block), one worker numbers them as gmsh does (the points of every surface first)");
-  CHECK(two.nquad > 2 * prev.nquad && BodiesSeparate(&two) && MinJacobian(&two) > 0 && PhysTag(&two, 1, "mid") > 0 && PhysTag(&two, 0, "corner") > 0 && two.nphys == one.nphys && !dup, "the field refined it (%ld -> %ld quads), groups kept (%d), no element tag twice (%ld)", prev.nquad, two.nquad, two.nphys, dup);
-  free(c1), free(c2);
-  MshFree(&one), MshFree(&two);
-done:
-  free(h);
-  MshFree(&prev);
-out:
-  unlink(geo), unlink(msh);
+  CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, geo) && strstr(err, "crashed") && strstr(err, "SIGSEGV") && !strchr(err, '\n'), "gmsh's crash: '%s'", err);
+  WriteGeo(geo, "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0}; Point(4) = {0, 1, 0};\n"
+                "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+                "Transfinite Curve{1, 3} = 1e9; Transfinite Curve{2, 4} = 2; Transfinite Surface{1}; Recombine Surface{1};\nPhysical Surface(\"square\", 7) = {1};\n");
+  in.max_nodes = 500;
+  CHECK(M2dRemesh(&in, &m, NULL, err, sizeof(err)) && strstr(err, geo) && strstr(err, "MB allowed for a mesh of at most 500 nodes"), "1e9 cells asked, memory bounded by 500 nodes: '%s'", err);
+  in.max_nodes = 0;
+  unlink(geo);
+  in.geo = Path("meshes/patch_uniform.geo");
+  CHECK(!Remesh(&in, &m, err) && m.nquad == 85 && Entries(tmp, M2D_REMESH_DIR_PREFIX, NULL, 0) == 1 && Entries(dir, "", NULL, 0) == 2, "after those, gmsh still meshes: %ld quads; one directory, empty", m.nquad);
+  MshFree(&m);
+  /* a dead run's directory (nobody holds its lock) and a live one's (a lock held) */
+  snprintf(dead, sizeof(dead), "%s/" M2D_REMESH_DIR_PREFIX "dead00", tmp);
+  snprintf(live, sizeof(live), "%s/" M2D_REMESH_DIR_PREFIX "live00", tmp);
+  mkdir(dead, 0700), mkdir(live, 0700);
+  snprintf(bad, sizeof(bad), "%s/wrapper.geo", dead);
+  WriteGeo(bad, "// left by a SIGKILL\n");
+  fd = open(live, O_RDONLY | O_DIRECTORY);
+  CHECK(fd >= 0 && !flock(fd, LOCK_EX | LOCK_NB), "a live run's lock held");
+  M2dTempSweepDirs(tmp, M2D_REMESH_DIR_PREFIX);
+  CHECK(access(dead, F_OK) && !access(live, F_OK) && !access(dir, F_OK), "the sweep removes the dead run's directory and keeps the live ones (another's and this run's)");
+  close(fd);
+  M2dTempSweepDirs(tmp, M2D_REMESH_DIR_PREFIX);
+  CHECK(access(live, F_OK) && !access(dir, F_OK), "once its lock is gone, that one too");
 }
-
 static void TestQuality(void)
 {
   double         xy[8] = {0, 0, 2, 0, 1, 1, 0, 1};
@@ -504,6 +456,13 @@ static void TestQuality(void)
   CHECK(fabs(q.min_angle - 45) < 1e-12 && fabs(q.max_angle - 135) < 1e-12 && fabs(q.min_jratio - 0.5) < 1e-12 && q.nbad == 0, "quality of a trapezoid: angles [%g, %g], Jacobian ratio %g", q.min_angle, q.max_angle, q.min_jratio);
 }
 
+static char tmp[] = "/tmp/m2d_test_tmpdir_XXXXXX"; /* this test's TMPDIR */
+
+static void RemoveTmp(void) /* after the run's directory went (atexit: registered first, runs last) */
+{
+  rmdir(tmp);
+}
+
 int main(void)
 {
   char *slash;
@@ -511,6 +470,8 @@ int main(void)
   if ((slash = strrchr(src, '/'))) *slash = 0; /* tests/ */
   if ((slash = strrchr(src, '/'))) *slash = 0;
   else snprintf(src, sizeof(src), "..");
+  if (!mkdtemp(tmp) || atexit(RemoveTmp)) return 1;
+  TestProcess(tmp); /* first: the run's directory is made by the first call */
   TestQuality();
   TestSizeField();
   TestOwnMesh();
@@ -519,7 +480,6 @@ int main(void)
   TestPatchField();
   TestHertzField();
   TestHertzPerBody();
-  TestShares();
   printf("%s\n", failures ? "FAILED" : "all passed");
   return failures ? 1 : 0;
 }

@@ -18,8 +18,10 @@ and leaves the input and the previous results as they were.
     negative, orientations, point numbers: refused, never a hang.
 10. A corrupted .h5 (truncated, bytes flipped) names the file.
 21/5. -geo that is not a regular file (/dev/zero, a directory) or not plane is
-    refused; the temporary m2d_remesh_*.geo is gone after SIGINT or SIGTERM
-    during the remesh and after an error exit."""
+    refused; the run's directory TMPDIR/m2d_remesh_* is gone after SIGINT or
+    SIGTERM during the adaptive loop and after an error exit, and after SIGKILL
+    once the next run has started (a live run's kept); gmsh's memory is bounded
+    by -adapt_max_dofs (a .geo asking for 1e9 cells: one line)."""
 import hashlib
 import json
 import os
@@ -321,39 +323,84 @@ tilted = path("block_tilted.geo")
 with open(tilted, "w") as f:
     f.write(GEO_BLOCK.replace("Point(3) = {1, 1, 0,", "Point(3) = {1, 1, 0.2,") % ("", "", ""))
 for ranks in (1, 2):
-    refused("-geo not plane", GEO + ["-geo", tilted], [tilted, "not plane"], ranks)
+    refused("-geo not plane", GEO + ["-geo", tilted], [tilted, "plane meshes"], ranks)
 TMP = path("tmpdir")
 
 
-def wrappers():
+def leftovers():
     return [f for f in os.listdir(TMP) if f.startswith("m2d_remesh_")]
 
 
-ADAPT = ["-options_file", opts("hertz_adapt"), "-adapt_target", "0.002", "-adapt_max_dofs", "400000", "-output_dir", path("out_sig")]
-for sig in (signal.SIGINT, signal.SIGTERM):
+def fresh_tmp():
     shutil.rmtree(TMP, ignore_errors=True)
     os.makedirs(TMP)
+
+
+def gmsh_of(pid, parent=True):
+    """the program's live processes (not zombies) in the session of pid (its children, when parent): gmsh's is a fork of it"""
+    return subprocess.run(["pgrep", "-x", "-r", "D,R,S,T", "-P" if parent else "-s", str(pid), os.path.basename(EXE)], capture_output=True, text=True).stdout.split()
+
+
+def start_adapt():
+    """hertz_adapt asked for more than it reaches, in its own session; the process once the remesh directory exists, or None"""
     proc = subprocess.Popen(command(ADAPT), cwd=W, env=mpi_env(TMPDIR=TMP), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
-    seen, t0 = False, time.time()
-    while proc.poll() is None and time.time() - t0 < 120:  # the wrapper exists while gmsh meshes step 1 and later
-        if wrappers():
-            seen = True
-            proc.send_signal(sig)
-            break
+    t0 = time.time()
+    while proc.poll() is None and time.time() - t0 < 120:  # the directory exists from the first remeshing on
+        if leftovers():
+            return proc
         time.sleep(0.002)
-    try:
-        _, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        _, err = proc.communicate()
-    lines = [l for l in err.decode(errors="replace").splitlines() if l.strip()]
-    T.check(seen and proc.returncode == 1 and not wrappers() and len(lines) == 1 and "interrupted by %s" % sig.name in lines[0],
-            "%s while gmsh remeshes: exit %s, no m2d_remesh_*.geo left (%s), %s" % (sig.name, proc.returncode, wrappers(), lines))
-shutil.rmtree(TMP, ignore_errors=True)
-os.makedirs(TMP)
+    proc.kill()
+    proc.communicate()
+    return None
+
+
+ADAPT = ["-options_file", opts("hertz_adapt"), "-adapt_target", "0.0002", "-adapt_max_dofs", "400000", "-output_dir", path("out_sig")]
+for sig in (signal.SIGINT, signal.SIGTERM):
+    fresh_tmp()
+    proc = start_adapt()
+    if proc:
+        t0 = time.time()
+        while not gmsh_of(proc.pid) and time.time() - t0 < 60:  # while gmsh meshes
+            time.sleep(0.001)
+        proc.send_signal(sig)
+        try:
+            _, err = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            _, err = proc.communicate()
+        lines = [l for l in err.decode(errors="replace").splitlines() if l.strip()]
+    T.check(proc and proc.returncode == 1 and not leftovers() and len(lines) == 1 and "interrupted by %s" % sig.name in lines[0],
+            "%s during the adaptive loop: exit %s, no m2d_remesh_* left (%s), %s" % (sig.name, proc and proc.returncode, leftovers(), proc and lines))
+# SIGKILL while gmsh meshes (nothing of the program runs): its directory stays
+# until the next run starts, which removes it (nobody holds its lock); gmsh's
+# process ends with it. A run alive meanwhile keeps its own.
+fresh_tmp()
+live, dead = start_adapt(), start_adapt()
+if live and dead:
+    t0 = time.time()
+    while not gmsh_of(dead.pid) and time.time() - t0 < 60:  # the moment gmsh meshes
+        time.sleep(0.001)
+    os.kill(dead.pid, signal.SIGKILL)
+    dead.wait()
+    time.sleep(0.3)
+    before = leftovers()
+    gmsh_left = gmsh_of(dead.pid, parent=False)
+    rc, _, err = run(S2 + ["-mesh", mesh("patch_uniform"), "-output_dir", path("out_next")], check=False, env={"TMPDIR": TMP})
+    after = leftovers()
+    live.send_signal(signal.SIGTERM)
+    live.communicate(timeout=60)
+    T.check(len(before) == 2 and rc == 0 and len(after) == 1 and not gmsh_left and not leftovers(),
+            "SIGKILL during the adaptive loop: %s left, no process of it left (%s); the next run (exit %d) removes the dead run's and keeps the live one's (%s); that one gone at its end" % (before, gmsh_left, rc, after))
+else:
+    T.check(False, "SIGKILL during the adaptive loop: the runs did not reach their first remeshing")
+fresh_tmp()
 withx = geo("block_x.geo", "x = 0.5;")  # (a -geo_setnumber name the .geo never uses is refused before gmsh runs)
 rc, _, err = run(GEO + ["-geo", withx, "-geo_setnumber", "x=1", "-output_dir", path("out_x")], check=False, env={"TMPDIR": TMP})
 typo = geo("block_typo.geo", "x = 0.5; Line(9) = {1, 77};")
 rc2, _, err2 = run(GEO + ["-geo", typo, "-geo_setnumber", "x=1", "-output_dir", path("out_x")], check=False, env={"TMPDIR": TMP})
-T.check(rc == 0 and rc2 == 1 and not wrappers(), "no m2d_remesh_*.geo left after a run with -geo_setnumber (exit %d) and after a gmsh error (exit %d): %s" % (rc, rc2, err2.strip()[:200]))
+T.check(rc == 0 and rc2 == 1 and not leftovers(), "no m2d_remesh_* left after a run with -geo_setnumber (exit %d) and after a gmsh error (exit %d): %s" % (rc, rc2, err2.strip()[:200]))
+# a .geo asking for 1e9 cells under -adapt_max_dofs 1000: gmsh's memory is bounded by the cap's mesh
+for ranks in (1, 2):
+    refused("-geo_setnumber nlx=1e9 -adapt_max_dofs 1000", ["-options_file", opts("seed_patch_adapt"), "-geo_setnumber", "nlx=1e9", "-adapt_max_dofs", "1000"],
+            ["seed_patch.geo", "MB allowed for a mesh of at most 500 nodes", "-adapt_max_dofs"], ranks, timeout=60)
 T.finish()

@@ -11,9 +11,10 @@ and the median walls. Every variant (--variant NAME:ARGS, ARGS appended to
 hertz_adapt.opts; --exe2 PATH runs both with another build too, its ratios printed apart)
 is a further point of the same rounds, printed with its dofs and its pressure
 error against Hertz, so before/after figures come from one stretch of time.
+--exe2 may be given more than once (builds exe2, exe3, ...).
 
   /usr/bin/python3 tools/loop_ratio.py [--repeat 3] [--level 5] [--out DIR]
-      [--exe2 OTHER/mortar2d] [--variant "name:-adapt_growth 8" ...]
+      [--exe2 OTHER/mortar2d ...] [--variant "name:-adapt_growth 8" ...]
 """
 import argparse
 import os
@@ -30,14 +31,15 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="rounds (min taken)")
     ap.add_argument("--level", type=int, default=5, help="uniform Hertz level of the reference run")
     ap.add_argument("--out", default=os.path.join(m2d.SRC, "build", "loop_ratio"))
-    ap.add_argument("--exe2", default="", help="another build's mortar2d (e.g. before a change): both runs with it as well")
+    ap.add_argument("--exe2", action="append", default=[], help="another build's mortar2d (e.g. before a change): both runs with it as well; repeatable")
     ap.add_argument("--variant", action="append", default=[], help="NAME:ARGS, hertz_adapt.opts with ARGS appended")
     a = ap.parse_args()
     uniform = ["-options_file", m2d.opts("hertz"), "-mesh", m2d.hertz_mesh(a.level)]
     adapt = ["-options_file", m2d.opts("hertz_adapt")]
     points = [("uniform_L%d" % a.level, None, uniform), ("hertz_adapt", None, adapt)]
-    if a.exe2:
-        points += [("uniform_L%d[exe2]" % a.level, os.path.abspath(a.exe2), uniform), ("hertz_adapt[exe2]", os.path.abspath(a.exe2), adapt)]
+    tags = [""] + ["[exe%d]" % (k + 2) for k in range(len(a.exe2))]
+    for tag, exe in zip(tags[1:], a.exe2):
+        points += [("uniform_L%d%s" % (a.level, tag), os.path.abspath(exe), uniform), ("hertz_adapt" + tag, os.path.abspath(exe), adapt)]
     for v in a.variant:
         name, _, extra = v.partition(":")
         points.append((name, None, adapt + extra.split()))
@@ -64,9 +66,9 @@ def main():
         r = res[name]
         print("| %s | %d | %.3e | %.3f | %.3f | %.3f | 1/%.1f |" % (name, r["s"]["dofs"], r["s"].get("pressure_l2_rel", float("nan")), min(r["wall"]), statistics.median(r["wall"]),
                                                            min(r["cpu"]), min(ref["wall"]) / min(r["wall"])))
-    for tag in ("", "[exe2]") if a.exe2 else ("",):
+    for tag, exe in zip(tags, [""] + a.exe2):
         u, h = res["uniform_L%d%s" % (a.level, tag)], res["hertz_adapt" + tag]
-        print("\nratio hertz_adapt / uniform L%d%s: wall (min) 1/%.1f, wall (median) 1/%.1f, cpu (min) 1/%.1f" % (a.level, " with " + a.exe2 if tag else "", min(u["wall"]) / min(h["wall"]),
+        print("\nratio hertz_adapt / uniform L%d%s: wall (min) 1/%.1f, wall (median) 1/%.1f, cpu (min) 1/%.1f" % (a.level, " with " + exe if tag else "", min(u["wall"]) / min(h["wall"]),
               statistics.median(u["wall"]) / statistics.median(h["wall"]), min(u["cpu"]) / min(h["cpu"])))
 
 

@@ -1,10 +1,11 @@
 /* remesh.h - mesh a scene's .geo with gmsh's C API (libgmsh), optionally driven
- * by a mesh-size field given on a previous mesh, and return the all-quad mesh in
- * memory as the MshMesh that MshRead would fill from the same mesh saved as a .msh.
+ * by a mesh-size field given on a previous mesh, and return the all-quad mesh
+ * as MshRead reads it from the .msh gmsh saves.
  *
- * Why through the library and not the gmsh program: no .msh file in between, and
- * the size field goes in as numbers rather than as a .pos file. The .geo stays the
- * scene's geometry source: its physical names, its parameters (set like gmsh's
+ * Why through the library and not the gmsh program: the size field goes in as
+ * gmsh's mesh-size callback, evaluated on the previous mesh (remesh_field.c),
+ * rather than as a .pos view (remesh.c says why). The .geo stays the scene's
+ * geometry source: its physical names, its parameters (set like gmsh's
  * -setnumber) and, without a size field, its own sizes and meshing options.
  *
  * With a size field, the .geo's own size sources are switched off, and the number
@@ -13,19 +14,21 @@
  * be remeshed skips them then: If (!Exists(m2d_size_field)) Transfinite ... EndIf
  * (M2dRemesh refuses a .geo that names Transfinite but not m2d_size_field).
  *
- * gmsh keeps global state (options, parser, models), so every call meshes with
- * a gmsh just initialised (a process forked per call from a server process that
- * initialised it once, remesh.c): calls are independent of each other and of
- * what the .geo of an earlier call set, and a crash of gmsh is an error line.
- * With a size field, the surfaces are meshed in two shares at once, each by a
- * process of its own (connected surfaces stay together; remesh.c, Share), and
- * joined: the first share's nodes and cells first.
- * Call from one thread at a time (mortar2d: rank 0 only). Plain C, no PETSc,
- * no MPI. */
+ * gmsh keeps global state (options, parser, models) and crashes on some inputs,
+ * so every call meshes in a child process of its own, with a gmsh just
+ * initialised (remesh.c): calls are independent of each other and of what the
+ * .geo of an earlier call set, and a crash of gmsh is an error line. The
+ * child's files (the .geo wrapper, the mesh it hands back) are in a directory
+ * <TMPDIR>/m2d_remesh_XXXXXX of this run's own, locked while the run lives and
+ * removed at its end; one a killed run left is removed by the next run
+ * (temprecord.h). Call from one thread at a time (mortar2d: rank 0 only).
+ * Plain C, no PETSc, no MPI. */
 #ifndef M2D_REMESH_H
 #define M2D_REMESH_H
 #include <stddef.h>
 #include "msh.h"
+
+#define M2D_REMESH_DIR_PREFIX "m2d_remesh_"
 
 /* How the quads are made when a size field drives the mesh (the .geo's own
  * options are used without a field). Triangles are made with gmsh's
@@ -57,7 +60,10 @@ typedef struct {
   const double  *hcell;   /* prev->nquad sizes, or NULL (exactly one of the two) */
   double         hmin, hmax;  /* clamp the field (0: no clamp) */
   M2dRemeshQuads quads;   /* with a field: how quads are made */
-  const char    *write_msh;   /* if not NULL: also save the mesh there (gmsh .msh 4.1; not shared then) */
+  const char    *write_msh;   /* if not NULL: also save the mesh there (gmsh .msh 4.1) */
+  double         max_nodes;   /* > 0: gmsh's memory is bounded by what a mesh of this
+                                 many nodes takes (with a wide margin): a .geo that asks
+                                 for far more ends in one line, not in the machine's swap */
   int            verbose;     /* 1: gmsh's messages on the terminal */
 } M2dRemeshInput;
 
@@ -71,8 +77,8 @@ typedef struct {
 } M2dQuadQuality;
 
 typedef struct {
-  double         seconds_open;     /* load gmsh (first call), parse the .geo, set up the field */
-  double         seconds_generate; /* gmsh's 2D meshing (the longer share's, when shared) */
+  double         seconds_open;     /* load gmsh (first call), start its process, parse the .geo, set up the field */
+  double         seconds_generate; /* gmsh's 2D meshing */
   double         seconds_total;    /* the whole call */
   M2dQuadQuality quality;
 } M2dRemeshStats;
@@ -83,14 +89,6 @@ typedef struct {
  * stats (may be NULL) gets timings and quad shapes. On error returns nonzero,
  * fills err with one line naming the .geo, and leaves out empty (freeable). */
 int M2dRemesh(const M2dRemeshInput *in, MshMesh *out, M2dRemeshStats *stats, char *err, size_t errlen);
-/* gmsh runs in a server process (remesh.c) that the first M2dRemesh starts, or
- * this earlier (not collective, no MPI or PETSc call; best called before
- * MPI_Init, while the process is small): the server then loads and
- * initialises gmsh while the caller goes on. Returns 0, or 1 when the process
- * could not be started (M2dRemesh will try again). The server ends when the
- * caller exits. */
-int M2dRemeshStart(void);
-
 /* Corner angles and Jacobian ratios of the quads of m (any MshMesh). */
 void M2dQuadQualityCompute(const MshMesh *m, M2dQuadQuality *q);
 

@@ -13,9 +13,9 @@
 /* Follow every options file argv (argv[0] is the program), PETSC_OPTIONS and
  * the petscrc files name, the way PetscInitialize will. Returns 0 when every
  * required file can be read and no file includes itself; otherwise prints one
- * line "mortar2d: error: ..." on stderr (only on MPI rank 0, told by the
- * launcher's environment: MPI is not initialised yet) and returns 1. Not
- * collective: every rank runs it on the same files and gets the same answer. */
+ * line "mortar2d: error: ..." on stderr (on world rank 0: call it after
+ * MPI_Init) and returns 1. Not collective: every rank runs it on the same
+ * files and gets the same answer. */
 int M2dOptionsFilesCheck(int argc, char **argv);
 /* After M2dOptionsFilesCheck: the option names it met (without the '-', each
  * once, case-insensitively; YAML files are not read), M2dOptionsGiven(i, &file)

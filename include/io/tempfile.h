@@ -28,17 +28,17 @@
  * PetscInitialize (whose crash handler takes SIGTERM and SIGHUP), and let the
  * held signals through. Not collective; once per rank. */
 PetscErrorCode M2dInstallSignalHandlers(void);
-/* The same handlers before PetscInitialize, and SIGINT, SIGTERM, SIGHUP held
- * until M2dInstallSignalHandlers: MPI's start-up (~0.1 s; a singleton forks
- * Open MPI's orted, which printed "ORTE_ERROR_LOG: Broken pipe" when the run
- * ended under it) and PETSc's own handler (PetscInitialize) never see them;
- * the rank comes from the launcher's environment. Plain C: returns 0 or a
- * failing signal. */
+/* The same handlers before MPI_Init, and SIGINT, SIGTERM, SIGHUP held until
+ * M2dInstallSignalHandlers: MPI's start-up (a singleton of Open MPI forks its
+ * orted, which printed "ORTE_ERROR_LOG: Broken pipe" when the run ended under
+ * it; threads started there inherit the mask) and PETSc's own handler
+ * (PetscInitialize) never see them, and the one line comes once the rank is
+ * known. Plain C: returns 0 or a failing signal. */
 int M2dInstallEarlySignalHandlers(void);
 /* Call right before PetscFinalize: PETSc 3.18's PetscFinalize resets SIGTERM
  * and SIGHUP to the default action (PetscPopSignalHandler); this keeps ours. */
 PetscErrorCode M2dSignalsBeforeFinalize(void);
-/* Under a launcher (world size in the environment), wait until 1.3 s (Open
+/* On more than one rank (a launcher started them), wait until 1.3 s (Open
  * MPI's odls_base_sigkill_timeout + 0.3 s) after the last SIGCONT and after
  * the early handlers were installed: a Ctrl-C to mpiexec at any moment before
  * (even before this process could catch the SIGCONT) has by then ended the

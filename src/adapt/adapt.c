@@ -564,6 +564,7 @@ static PetscErrorCode Remesh(MPI_Comm comm, const M2dScene *s, const M2dAdaptOpt
     in.names   = names;
     in.values  = values;
     in.quads   = (M2dRemeshQuads)ao->quads;
+    in.max_nodes = 0.5 * (double)ao->max_dofs; /* gmsh's memory bounded by the cap's mesh */
     if (step > 0) {
       in.prev  = &prev->msh;
       in.hcell = prev->hcell;

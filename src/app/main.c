@@ -9,7 +9,6 @@
  * supports, KKT blocks), Solve (the path chosen in solver.h; the answer's own
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
-#define _POSIX_C_SOURCE 200809L /* setenv, mkdtemp */
 #include "about.h"
 #include "logging.h"
 #include "optcheck.h"
@@ -20,12 +19,7 @@
 #include "helpprint.h"
 #include "step.h"
 #include "util.h"
-#include <limits.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <strings.h>
-#include <unistd.h>
 
 static const char help[] = "mortar2d: 2D contact of linear elastic bodies, frictionless or Coulomb (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
@@ -109,59 +103,13 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* A run started without mpiexec is an Open MPI singleton: one rank that talks
- * to no other process, yet Open MPI's default point-to-point layer first
- * probes the network libraries (UCX) at MPI_Init. The ob1 layer (shared
- * memory and self) starts faster. And a singleton forks and execs a daemon of
- * its own (orted) at MPI_Init, about 0.5 s of wall time, needed only by
- * MPI_Comm_spawn and name publishing: ess_singleton_isolated skips it. But
- * Open MPI 4.1 names every isolated singleton alike, hence the same session
- * directory under the temporary directory, and two such runs at once race on
- * creating and removing it (MPI_Init fails): each run gets a session base of
- * its own, made here (in TMPDIR) and recorded (temprecord.h) so that every
- * exit, SIGINT, SIGTERM and SIGHUP remove it with what Open MPI left in it
- * (one left by a run killed or crashed is removed by the next run).
- * Only when no launcher started the process; the session settings only when
- * the user set neither of their two variables. Other MPIs ignore them. */
-static void SingletonMPIDefaults(void)
-{
-  static char base[PATH_MAX];
-  const char *tmp = getenv("TMPDIR");
-  if (getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK") || getenv("PMI_SIZE")) return;
-  (void)setenv("OMPI_MCA_pml", "ob1", 0);
-  if (getenv("OMPI_MCA_ess_singleton_isolated") || getenv("OMPI_MCA_orte_tmpdir_base")) return;
-  if (M2dTempMakeDir(tmp && *tmp ? tmp : "/tmp", "m2d_mpi.", base, sizeof(base))) return; /* Open MPI's default then */
-  if (setenv("OMPI_MCA_orte_tmpdir_base", base, 1) || setenv("OMPI_MCA_ess_singleton_isolated", "1", 1)) (void)unsetenv("OMPI_MCA_ess_singleton_isolated");
-}
-
-/* -adapt named (command line, PETSC_OPTIONS, an options file): gmsh's server
- * process (remesh.h) starts now, on the rank that remeshes (0), so that gmsh
- * loads and initialises while MPI and PETSc start. Only a hint: a wrong guess
- * costs a process that loads gmsh for nothing (-adapt false), or the start at
- * the first remeshing. */
-static void StartGmshEarly(void)
-{
-  const char *rank = getenv("OMPI_COMM_WORLD_RANK"); /* Open MPI; PMIx, MPICH below */
-  if (!rank) rank = getenv("PMIX_RANK");
-  if (!rank) rank = getenv("PMI_RANK");
-  if (rank && strcmp(rank, "0")) return;
-  for (int i = 0; i < M2dOptionsGivenCount(); i++)
-    if (!strcasecmp(M2dOptionsGiven(i, NULL), "adapt")) {
-      (void)M2dRemeshStart();
-      return;
-    }
-}
-
-int main(int argc, char **argv)
+/* after MPI_Init: PetscInitialize to PetscFinalize; 0 or 1 */
+static int Program(int argc, char **argv)
 {
   PetscErrorCode ierr;
   PetscMPIInt    rank;
 
-  if (M2dVersionRequested(argc, argv)) return 0; /* the program's and PETSc's versions, before MPI starts */
-  if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
-  if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash */
-  SingletonMPIDefaults();
-  StartGmshEarly();
+  if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash (signal 11) */
   (void)M2dHelpArgs(&argc, &argv); /* -help_petsc: -help with PETSc's own options after the program's */
   (void)M2dHelpCapture(); /* -help: the program's options before PETSc's */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
@@ -190,4 +138,16 @@ int main(int argc, char **argv)
   ierr = M2dSignalsBeforeFinalize() || ierr;
   ierr = PetscFinalize() || ierr;
   return ierr ? 1 : 0;
+}
+
+int main(int argc, char **argv)
+{
+  int rc, provided;
+
+  if (M2dVersionRequested(argc, argv)) return 0; /* the program's and PETSc's versions, before MPI starts */
+  if (M2dInstallEarlySignalHandlers()) return 1; /* a Ctrl-C during MPI's start-up: one line too */
+  if (M2dTempDirCheck(M2D_REMESH_DIR_PREFIX)) return 1; /* before MPI_Init uses it */
+  if (MPI_Init_thread(&argc, &argv, PETSC_MPI_THREAD_REQUIRED, &provided)) return 1; /* as PetscInitialize would */
+  rc = Program(argc, argv);
+  return MPI_Finalize() || rc;
 }

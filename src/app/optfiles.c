@@ -1,4 +1,4 @@
-/* optfiles.c - see optfiles.h. Plain C: it runs before PetscInitialize.
+/* optfiles.c - see optfiles.h. It runs after MPI_Init, before PetscInitialize.
  *
  * Mirrors PETSc 3.18 (src/sys/objects/options.c): PetscOptionsInsert reads
  * ~/.petscrc, ./.petscrc, ./petscrc (unless -skip_petscrc; missing is fine),
@@ -12,6 +12,7 @@
  * to PETSc. */
 #define _POSIX_C_SOURCE 200809L
 #include "optfiles.h"
+#include <mpi.h>
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
@@ -85,12 +86,10 @@ const char *M2dOptionsGiven(int i, const char **file)
 
 static int Fail(const char *fmt, ...)
 {
-  const char *rank = getenv("OMPI_COMM_WORLD_RANK"); /* Open MPI; MPICH and PMIx below */
-  va_list     ap;
+  int     rank = 0;
+  va_list ap;
 
-  if (!rank) rank = getenv("PMI_RANK");
-  if (!rank) rank = getenv("PMIX_RANK");
-  if (rank && atoi(rank) != 0) return 1;
+  if (MPI_Comm_rank(MPI_COMM_WORLD, &rank) || rank) return 1; /* each rank finds the same error */
   fprintf(stderr, "mortar2d: error: ");
   va_start(ap, fmt);
   vfprintf(stderr, fmt, ap);

@@ -13,10 +13,13 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <stdint.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -196,12 +199,8 @@ static int EnvInt(const char *const names[], int def)
 
 int M2dInstallEarlySignalHandlers(void)
 {
-  const char *const rank_vars[] = {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK", NULL};
-  const char *const size_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", NULL};
-  world_rank = EnvInt(rank_vars, 0);
-  world_size = EnvInt(size_vars, 1);
-  owner      = getpid();
-  if (EnvInt(size_vars, 0) > 0) launched_ns = MonotonicNs(); /* see M2dSignalsAwaitLauncher */
+  owner       = getpid();
+  launched_ns = MonotonicNs(); /* kept under a launcher only (M2dInstallSignalHandlers) */
   return SetHandlers() || Hold(SIG_BLOCK) ? SIGINT : 0;
 }
 
@@ -216,6 +215,7 @@ PetscErrorCode M2dInstallSignalHandlers(void)
   world_rank = rank;
   world_size = size;
   owner      = getpid();
+  if (size == 1) launched_ns = 0; /* see M2dSignalsAwaitLauncher */
   (void)M2dTempTag();
   bad = SetHandlers();
   PetscCheck(!bad, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the handler of signal %d: %s", bad, strerror(errno));
@@ -323,27 +323,73 @@ void M2dTempRemoveStale(const char *dir)
   closedir(d);
 }
 
-int M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t len)
+const char *M2dTempDir(void)
 {
-  DIR           *d;
-  struct dirent *e;
-  int            n;
+  const char *t = getenv("TMPDIR");
+  return t && *t ? t : "/tmp";
+}
 
-  if ((d = opendir(parent))) { /* those of runs that could not remove theirs (SIGKILL, a crash) */
-    while ((e = readdir(d))) {
-      int dfd;
-      if (!Stale(e->d_name, prefix) || (size_t)snprintf(path, len, "%s/%s", parent, e->d_name) >= len) continue;
-      if ((dfd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) >= 0) EmptyDir(dfd, 0), close(dfd), rmdir(path);
-    }
-    closedir(d);
+int M2dTempDirCheck(const char *sweep)
+{
+  const char    *dir = M2dTempDir(), *why = NULL;
+  struct stat    st;
+  struct statvfs fs;
+  if (stat(dir, &st)) why = strerror(errno);
+  else if (!S_ISDIR(st.st_mode)) why = "not a directory";
+  else if (access(dir, W_OK | X_OK)) why = strerror(errno);
+  else if (!statvfs(dir, &fs) && ((fs.f_blocks && !(geteuid() ? fs.f_bavail : fs.f_bfree)) || (fs.f_files && !(geteuid() ? fs.f_favail : fs.f_ffree)))) why = strerror(ENOSPC); /* full (nearly full: Open MPI fails in MPI_Init, in its own words) */
+  if (why) {
+    fprintf(stderr, "mortar2d: error: %s '%s': %s (MPI and the remeshing write their temporary files there)\n", getenv("TMPDIR") && *getenv("TMPDIR") ? "TMPDIR" : "the temporary directory (TMPDIR unset)", dir, why);
+    return 1;
   }
-  n = snprintf(path, len, "%s/%s%s.XXXXXX", parent, prefix, M2dTempTag());
-  if (n < 0 || (size_t)n >= len || !mkdtemp(path)) return -1;
-  if (Record(path, 1) < 0) {
-    rmdir(path);
-    return -1;
-  }
+  M2dTempSweepDirs(dir, sweep);
   return 0;
+}
+
+/* A directory is in use while its owner holds flock() on it (the kernel drops
+ * the lock when the process ends, however it ends, in any PID namespace): the
+ * unlocked ones are a dead run's. One of another user is left alone. */
+void M2dTempSweepDirs(const char *parent, const char *prefix)
+{
+  DIR           *d = opendir(parent);
+  struct dirent *e;
+  struct stat    st;
+
+  if (!d) return;
+  while ((e = readdir(d))) {
+    int dfd;
+    if (strncmp(e->d_name, prefix, strlen(prefix)) || (dfd = openat(dirfd(d), e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) < 0) continue;
+    if (!fstat(dfd, &st) && st.st_uid == geteuid() && !flock(dfd, LOCK_EX | LOCK_NB)) {
+      EmptyDir(dfd, 0);
+      (void)unlinkat(dirfd(d), e->d_name, AT_REMOVEDIR);
+    }
+    close(dfd); /* the lock with it */
+  }
+  closedir(d);
+}
+
+int M2dTempMakeDir(const char *parent, const char *prefix, char *path, size_t len, int *lockfd)
+{
+  for (int attempt = 0; attempt < 16; attempt++) {
+    struct stat a, b;
+    int         dfd, n = snprintf(path, len, "%s/%sXXXXXX", parent, prefix);
+    if (n < 0 || (size_t)n >= len) return errno = ENAMETOOLONG, -1;
+    if (!mkdtemp(path)) return -1;
+    /* a sweep may take the new directory before it is locked: it removes it, and this tries another */
+    if ((dfd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) < 0) continue;
+    if ((flock(dfd, LOCK_EX | LOCK_NB) && errno == EWOULDBLOCK) || fstat(dfd, &a) || stat(path, &b) || a.st_ino != b.st_ino || a.st_dev != b.st_dev) {
+      close(dfd);
+      continue;
+    } /* (a file system without flock: the directory is used unlocked, and only its own run removes it) */
+    if (Record(path, 1) < 0) {
+      close(dfd);
+      rmdir(path);
+      return errno = ENAMETOOLONG, -1;
+    }
+    *lockfd = dfd;
+    return 0;
+  }
+  return errno = EBUSY, -1;
 }
 
 PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len)
