@@ -2,11 +2,10 @@
 two cylinders of hertz_two and the rounded punch (options/punch.opts), each
 with either body non-mortar. Asserted, on every run:
  1. the same command gives the same meshes and answers (6 runs of Hertz at
-    target 0.04, 2 of hertz_two; the same arguments each time: on AVX-512
-    machines OpenBLAS rounds the last bits of MUMPS' factors with the
-    alignment of its work arrays, which moves with the arguments' text, and
-    the warm start carries those bits to the next mesh's answer), and 1 and 2
-    ranks give the same meshes;
+    target 0.04, 2 of hertz_two; on AVX-512 machines OpenBLAS rounds the
+    last bits by the arrays' alignment, which main.c fixes at 64 bytes for
+    PETSc's arrays: before, Open MPI's threads moved it from run to run), and
+    1 and 2 ranks give the same meshes;
  2. a tighter target never ends on a worse answer: Hertz at 0.04, 0.01,
     0.0025 (pressure error against Hertz non-increasing within 10%); each
     stops at its target or within -adapt_tolerance (5%) above it, and no mesh

@@ -9,6 +9,7 @@
  * supports, KKT blocks), Solve (the path chosen in solver.h; the answer's own
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
+#define _GNU_SOURCE /* malloc_usable_size */
 #include "about.h"
 #include "logging.h"
 #include "optcheck.h"
@@ -19,7 +20,11 @@
 #include "helpprint.h"
 #include "step.h"
 #include "util.h"
+#include <malloc.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
 
 static const char help[] = "mortar2d: 2D contact of linear elastic bodies, frictionless or Coulomb (small strain, Q4, mortar or node-to-segment).\n"
                            "Usage: mortar2d -options_file SCENE.opts [options]; the scenes are in options/, README.md explains them.\n"
@@ -103,6 +108,45 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* PETSc's arrays on 64-byte boundaries. OpenBLAS's AVX-512 kernels round
+ * the last bits by an array's alignment, and PETSc's own 16 bytes leave that
+ * to the heap's history, which Open MPI's threads interleave with ours at
+ * moments of their own: the same command gave two answers (hertz_adapt.opts
+ * -adapt_target 0.01: 5 runs in 12; hertz_3 once in 4). Not with PETSc's
+ * -malloc_* debugging, which brings its own allocator. */
+static PetscErrorCode AlignedMalloc(size_t n, PetscBool clear, int line, const char fn[], const char file[], void **r)
+{
+  (void)line, (void)fn, (void)file;
+  *r = NULL;
+  if (n && posix_memalign(r, 64, n)) return PETSC_ERR_MEM;
+  if (n && clear) memset(*r, 0, n);
+  return 0;
+}
+
+static PetscErrorCode AlignedFree(void *p, int line, const char fn[], const char file[])
+{
+  (void)line, (void)fn, (void)file;
+  free(p);
+  return 0;
+}
+
+static PetscErrorCode AlignedRealloc(size_t n, int line, const char fn[], const char file[], void **r)
+{
+  void *q = NULL;
+  if (n && AlignedMalloc(n, PETSC_FALSE, line, fn, file, &q)) return PETSC_ERR_MEM;
+  if (*r && q) memcpy(q, *r, PetscMin(n, malloc_usable_size(*r)));
+  free(*r);
+  *r = q;
+  return 0;
+}
+
+static PetscBool MallocDebugRequested(void)
+{
+  for (int i = 0; i < M2dOptionsGivenCount(); i++)
+    if (!strncasecmp(M2dOptionsGiven(i, NULL), "malloc", 6)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
 /* after MPI_Init: PetscInitialize to PetscFinalize; 0 or 1 */
 static int Program(int argc, char **argv)
 {
@@ -110,6 +154,7 @@ static int Program(int argc, char **argv)
   PetscMPIInt    rank;
 
   if (M2dOptionsFilesCheck(argc, argv)) return 1; /* before PETSc follows a cycle of -options_file into a crash (signal 11) */
+  if (!MallocDebugRequested() && PetscMallocSet(AlignedMalloc, AlignedFree, AlignedRealloc)) return 1;
   (void)M2dHelpArgs(&argc, &argv); /* -help_petsc: -help with PETSc's own options after the program's */
   (void)M2dHelpCapture(); /* -help: the program's options before PETSc's */
   ierr = PetscInitialize(&argc, &argv, NULL, help);
