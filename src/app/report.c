@@ -39,7 +39,10 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
   SummaryReal(sum, "", "strain_max", v->strain_max);
+  SummaryReal(sum, "", "rotation_max", v->rotation_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
+  SummaryReal(sum, "", "backward_error", v->backward_error);
+  if (sol->factored) SummaryReal(sum, "", "backward_error_tol", M2D_VERIFY_BACKWARD_TOL); /* a Krylov answer is held to residual_tol alone */
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
   /* every figure is in the units of the input (the internal scaling, units.h, never shows) */
   SummaryString(sum, "units", "length", "the mesh's coordinates x -mesh_scale");

@@ -275,7 +275,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsRealList(PetscOptionsObject, "-hertz_radius", "Hertz radius R, or R1,R2 of two cylinders (R1 R2/(R1 + R2)), > 0; or R1,R2 per pair", 2 * M2D_MAX_PAIRS, s->hertz_radii, &s->hertz_nradius));
   PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: twice the first -pressure's resultant", &s->hertz_load, &s->hertz_load_set));
-  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain an answer may reach (a rotation t counts as t^2/2), > 0; warned above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
 
