@@ -20,7 +20,11 @@ still refuse a wrong answer.
     refined through the thickness (1, 2, 4, 8 cells at aspect ratio 1). A
     wrong answer is still refused: the answer perturbed by noise (beam 1e-9,
     S2 1e-6) or scaled by 1 + 1e-3 (S2), a Krylov solve stopped at -ksp_rtol 1e-3 (its
-    answer is judged by |r| / |f|)."""
+    answer is judged by |r| / |f|).
+ 5. Volumetric locking, one threshold (plane strain, nu > 0.45): the default
+    integration is sri there (a note), -q4_integration full given runs with
+    a warning (before: refused at nu >= 0.4898, silent below); nu = 0.45 and
+    below: full, no word."""
 import os
 
 from m2d import Tally, mesh, opts, read_h5, read_json, refusal_problems, run, workdir
@@ -137,4 +141,22 @@ for what, args, perturb, culprits in (
         T.check(not problems, "%s, %d rank(s): refused" % (what, ranks), line)
 rc, out, err, s = go("scenes_right", S2, env={"M2D_TEST_PERTURB": "noise 1e-14"})
 T.check(rc == 0, "S2 + noise 1e-14 |u| (round-off): accepted", " | ".join(err)[:200])
+# ---------------------------------------------------------------- 5. locking
+# one threshold, nu = 0.45 in plane strain (M2D_LOCKING_NU): past it sri by
+# default (before: full, silently, up to 0.4898, then refused even when given)
+HZ = ["-options_file", opts("hertz"), "-output_vtu", "0", "-contact_monitor", "0"]
+for nu, ranks, given, want in (("0.45", 1, None, "full"), ("0.48", 1, None, "sri"), ("0.48", 2, None, "sri"),
+                               ("0.49", 1, "full", "full"), ("0.49", 2, "full", "full"), ("0.3", 1, "full", "full")):
+    extra = ["-q4_integration", given] if given else []
+    rc, out, err, s = go("scenes_nu", HZ + ["-cylinder_nu", nu, "-block_nu", nu] + extra, ranks)
+    notes = [ln for ln in out.splitlines() if "0.45 in plane strain" in ln]
+    if want == "sri":
+        ok = len(notes) == 1 and notes[0].startswith("note: nu = %s (-cylinder_nu) > 0.45 in plane strain: Q4 with selective reduced integration" % nu)
+    elif given and float(nu) > 0.45:
+        ok = len(notes) == 1 and notes[0].startswith("warning: -q4_integration full with nu = %s" % nu) and "-q4_integration sri cures it" in notes[0]
+    else:
+        ok = not notes
+    T.check(rc == 0 and s and s["q4_integration"] == want and ok,
+            "Hertz level 2, nu = %s, %s, %d rank(s): exit %s, %s integration" % (nu, "-q4_integration " + given if given else "default", ranks, rc, want),
+            ("%s; pressure error %.3e" % (notes[0] if notes else "no note", s["pressure_l2_rel"])) if s else " | ".join(err)[:300])
 T.finish()

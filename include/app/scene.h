@@ -11,6 +11,11 @@
 #define M2D_NAME_LEN   128
 #define M2D_MAX_MESH   M2D_MAX_BODIES
 #define M2D_MAX_PAIRS  16
+/* plane strain past this Poisson ratio (lambda/mu = 9): full 2x2 integration
+ * locks, -q4_integration defaults to sri (problem.c) */
+#define M2D_LOCKING_NU 0.45
+#define M2D_STR_(x)    #x
+#define M2D_STR(x)     M2D_STR_(x) /* a constant in a help string */
 
 typedef enum {
   M2D_PLANE_STRAIN,
@@ -96,6 +101,8 @@ typedef struct {
   PetscBool      materials_read; /* SceneReadMaterials has run */
   M2dPlane       plane;
   PetscBool      sri; /* selective reduced integration of the volumetric (lambda) part */
+  PetscBool      integration_set; /* -q4_integration given; else sri past M2D_LOCKING_NU in plane strain (problem.c) */
+  PetscBool      locking_warned;  /* -q4_integration full past M2D_LOCKING_NU: said once */
   PetscInt       ndir;
   M2dDirichlet   dir[M2D_MAX_BC];
   PetscInt       nload;

@@ -27,6 +27,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryInt(sum, "", "ranks", size);
   SummaryInt(sum, "", "bodies", pb->s.nbody);
   SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
+  SummaryString(sum, "", "q4_integration", pb->s.sri ? "sri" : "full"); /* sri by default past M2D_LOCKING_NU in plane strain */
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
   if (sol->path == M2D_PATH_CONDENSED) SummaryString(sum, "", "kkt_ordering", pb->s.kkt_ordering == M2D_ORDERING_METIS ? "metis" : "mumps"); /* auto resolved (ProblemCreate) */
   /* the iteration counts of this path: one linear solve, or the active set's steps (SummarizeContact) and their solves */

@@ -185,7 +185,8 @@ static PetscErrorCode ReadModel(PetscOptionItems *PetscOptionsObject, M2dScene *
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, (PetscEnum *)&s->plane));
   k = s->sri ? 1 : 0;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced: cures volumetric locking)", integ, 2, &k));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced); default sri past plane-strain nu " M2D_STR(M2D_LOCKING_NU), integ, 2, &k));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-q4_integration", &s->integration_set));
   s->sri = (PetscBool)(k == 1);
   PetscFunctionReturn(0);
 }
