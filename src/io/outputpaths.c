@@ -73,18 +73,26 @@ typedef struct {
   char        path[PETSC_MAX_PATH_LEN], dir[PETSC_MAX_PATH_LEN], base[M2D_NAME_MAX + 1];
 } Output;
 
+/* o's directory and name: those of path, where its temporary must fit too (tempfile.h), for any process id */
+static PetscErrorCode SetWhere(Output *o, const char *path)
+{
+  char tmp[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(SplitPath(o->option, path, o->dir, sizeof(o->dir), o->base, sizeof(o->base)));
+  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), o->option, "%s/" M2D_WORST_TAG "%s", o->dir, o->base));
+  PetscCall(M2dPathPrintf(tmp, M2D_NAME_MAX + 1, o->option, M2D_WORST_TAG "%s", o->base));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode AddOutput(Output out[], PetscInt *n, const char *option, const char *path)
 {
   Output *o = &out[(*n)++];
-  char    tmp[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   o->option = option;
   PetscCall(M2dPathPrintf(o->path, sizeof(o->path), option, "%s", path));
-  PetscCall(SplitPath(option, path, o->dir, sizeof(o->dir), o->base, sizeof(o->base)));
-  /* its temporary must fit too (tempfile.h), for any process id */
-  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), option, "%s/" M2D_WORST_TAG "%s", o->dir, o->base));
-  PetscCall(M2dPathPrintf(tmp, M2D_NAME_MAX + 1, option, M2D_WORST_TAG "%s", o->base));
+  PetscCall(SetWhere(o, path));
   PetscFunctionReturn(0);
 }
 
@@ -134,17 +142,16 @@ static PetscBool SameFile(const char *a, const char *b)
 /* rank 0: the kind of each output and no input among them (an input exists:
  * an output in a directory yet to be made is none), then the directories
  * (made, a file created in each, leftovers removed), then no two outputs the same */
-static PetscErrorCode CheckLocal(const Output out[], PetscInt nout, PetscInt nfield, PetscInt ninput, const M2dInputFile in[])
+static PetscErrorCode CheckLocal(Output out[], PetscInt nout, PetscInt nfield, PetscInt ninput, const M2dInputFile in[])
 {
-  char why[PETSC_MAX_PATH_LEN + 200];
+  char why[2 * PETSC_MAX_PATH_LEN + 200], target[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < nout; k++) {
-    const Output *o = &out[k];
-    struct stat   st;
-    PetscCheck(stat(o->path, &st) || !S_ISDIR(st.st_mode), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: '%s' is a directory", o->option, o->path);
-    PetscCheck(!M2dCheckReplaceable(o->path, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s", o->option, why);
+    Output *o = &out[k];
     PetscCheck(strncmp(o->base, M2D_TEMP_PREFIX, strlen(M2D_TEMP_PREFIX)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: names starting with '" M2D_TEMP_PREFIX "' are mortar2d's own (%s)", o->option, o->path);
+    PetscCheck(!M2dOutputTarget(o->path, target, sizeof(target), why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s", o->option, why);
+    if (strcmp(target, o->path)) PetscCall(SetWhere(o, target)); /* a link, written through: its target's directory is probed */
     for (PetscInt i = 0; i < ninput; i++)
       PetscCheck(!SameFile(o->path, in[i].path), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "options %s and %s name the same file '%s': the output would replace an input", o->option, in[i].option, o->path);
   }
