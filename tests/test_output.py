@@ -23,7 +23,8 @@ run's first temporary appears in D.
     file of one run, and a mix is told by the run ids (a file whose run_id
     differs from the summary's); the next run removes the temporaries.
 Also: the byte-identical files of equal runs but for the id; a -summary
-outside D; the links an earlier version left in D; -output; the summary of a
+outside D; the links an earlier version left in D; -output (a run that
+writes part of the set removes the rest of an earlier run's); the summary of a
 failed run; a user's file and another -output_name's files
 never touched; the up-front checks (one line naming the option, D untouched);
 -summary/-mesh_save/the outputs naming a mesh, the .geo, an options file or
@@ -502,6 +503,36 @@ for extra, culprits in ((["-output", "h5,foo"], ["-output", "foo"]), (["-output"
     rc, err, _ = run(args(os.path.join(W, "choice"), "A", 1, extra))
     line, problems = refusal_problems(rc, err, culprits)
     report(not problems, " ".join(extra) + ": refused", ("; ".join(problems) + " -- " if problems else "") + line)
+
+# a run that writes part of the set removes the rest of an earlier run's set
+# (issue 33 item 11; before: -output csv after a full run left the summary,
+# .h5, .xmf and .vtu of the earlier run beside the new CSV, nothing said);
+# only files of mortar2d (by name and the run id inside), never a user's file,
+# a link or another -output_name's files
+for ranks in (1, 2):
+    d = os.path.join(W, "partial")
+    shutil.rmtree(d, ignore_errors=True)
+    run(args(d, "A", 1), ranks)
+    with open(os.path.join(d, NAME + "_notes.txt"), "w") as f:
+        f.write("a user's file\n")
+    rc, err, out = run(args(d, "B", 1, ["-output", "csv"]), ranks)
+    said = [l for l in out.splitlines() if l.startswith("output: removed ")]
+    report(rc == 0 and sorted(os.listdir(d)) == sorted([NAME + "_contact.csv", NAME + "_notes.txt"]) and len(said) == 1 and all(n in said[0] for n in PUB if n != NAME + "_contact.csv"),
+           "%d rank(s): -output csv after a full run: the earlier run's .vtu, .h5, .xmf and summary removed, said in one line, the user's file kept" % ranks, "%s %s %s" % (sorted(os.listdir(d)), said, err[:1]))
+d = os.path.join(W, "partial")
+run(args(d, "A", 1))
+with open(os.path.join(d, NAME + ".vtu"), "w") as f:
+    f.write("<?xml version=\"1.0\"?>\n<VTKFile>a user's own, no run id</VTKFile>\n")
+os.remove(os.path.join(d, NAME + ".xmf"))
+os.symlink(NAME + "_notes.txt", os.path.join(d, NAME + ".xmf"))
+rc, err, out = run(args(d, "B", 1, ["-output", "summary"]))
+report(rc == 0 and sorted(os.listdir(d)) == sorted([NAME + ".vtu", NAME + ".xmf", NAME + "_notes.txt", SUMMARY]) and os.path.islink(os.path.join(d, NAME + ".xmf")),
+       "-output summary: the earlier run's .h5 and CSV removed; a .vtu without a run id (a user's) and a link kept", str(sorted(os.listdir(d))))
+shutil.rmtree(d)
+run(args(d, "A", 1))
+rc, err, out = run(["-options_file", opts("block"), "-output_dir", d, "-output_name", NAME])
+report(rc == 0 and sorted(os.listdir(d)) == sorted(PUB[:3] + [SUMMARY]) and run_id(os.path.join(d, NAME + ".h5")) == run_id(os.path.join(d, SUMMARY)),
+       "a scene without contact after one with it, the same -output_name: the earlier contact CSV removed", str(sorted(os.listdir(d))))
 
 # ---------------------------------------------------------------- the summary of a failed run
 for ranks in (1, 2):
