@@ -539,6 +539,14 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
     PetscCall(PCSetUp(it->amg));
     PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->zone, it->Z ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Z));
     PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->halo, it->G ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->G));
+    /* on several ranks, with the zone holding every unknown (a small scene),
+     * PETSc 3.18's reuse refreshes the values of Z but not its state, and the
+     * LU's set-up then kept the factors of the last set: a zone solve of the
+     * wrong operator, an indefinite preconditioner (the stack with a set
+     * changing each step: DIVERGED_INDEFINITE_PC on 2 and 3 ranks); the
+     * assembly marks Z as changed */
+    PetscCall(MatAssemblyBegin(it->Z[0], MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(it->Z[0], MAT_FINAL_ASSEMBLY));
     PetscCall(KSPSetOperators(it->zksp, it->Z[0], it->Z[0]));
     PetscCall(KSPSetUp(it->zksp));
   }
