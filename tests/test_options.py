@@ -11,6 +11,14 @@ late or only on some paths must not be refused (no false alarm).
   3. options files: include cycles (a -> a, a -> b -> a, through
      PETSC_OPTIONS), missing or unreadable files, a line PETSc refuses;
   4. an unknown value of a choice names the option and lists the choices;
+  5. options that do nothing, values cut, files cut;
+  6. messages that named the wrong cause (issue 33 item 12): two pairs
+     sharing non-mortar edges, -iterative_ksp_atol above the steps'
+     residuals, a 3,000-digit value, integer options in e-notation, empty
+     entries of -output and -output contradicting -output_hdf5/-output_vtu,
+     two -hertz_radius values with two pairs, a turn just past 45 degrees, a
+     misspelt option after a good run (its summary marked), the program
+     started without a mesh or with -h/--help;
 and scenes run from any directory, mesh names resolved against -mesh_dir,
 -hertz_radius R1,R2 compared through its effective radius.
 
@@ -255,5 +263,73 @@ bad("an options file with a NUL byte", ["-options_file", os.path.join(W, "nul.op
 # more options than PETSc holds (512): one line (before: a 533-line trace)
 many = [x for i in range(500) for x in ("-opt%d" % i, str(i))]
 bad("500 more options", PATCH + many, ["different options given", "PETSc holds at most 500"])
+
+# ---------- 6. unclear messages (issue 33 item 12) ----------
+STACK_SPLIT = ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-output_dir", OUT,
+               "-contact_pairs", "mid_bottom:base_top,mid_bottom_b:base_top,top_bottom:mid_top"]
+# before: "active set did not settle", "singular Jacobian", an equilibrium failure, or exit 0 (dual, condensed)
+for extra in ([], ["-mortar_basis", "dual"], ["-kkt_path", "full"]):
+    bad("two pairs sharing non-mortar edges %s" % " ".join(extra), STACK_SPLIT + extra,
+        ["pair 1 'mid_bottom:base_top'", "pair 2 'mid_bottom_b:base_top'", "share 4 non-mortar edges"])
+good("two pairs on the two halves of a curve", ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-contact_pairs", "mid_bottom_a:base_top,mid_bottom_b:base_top,top_bottom:mid_top"])
+# before: "active set did not settle in 50 steps (-snes_max_it)"
+bad("-iterative_ksp_atol above the steps' residuals", HERTZ0 + ["-kkt_path", "iterative", "-iterative_ksp_atol", "1e10"], ["option -iterative_ksp_atol: 1e+10 stopped the Krylov solve"])
+# before: the line cut at 2,065 characters, before the reason
+for name, value, reason in (("3,000 digits", "1" + "0" * 3000, "(3001 characters)' is not a finite number"),
+                            ("3,000 zeros after the point", "0." + "0" * 3000 + "1", "is nonzero but below double precision's range")):
+    for ranks in (1, 2):
+        r = attempt(PATCH + ["-lower_E", value], ranks)
+        line, problems = refusal_problems(r[0], r[2], ["option -lower_E", reason])
+        report(not problems and len(line) < 300, "a value of %s: the reason in one short line [%d rank%s]" % (name, ranks, "s" if ranks > 1 else ""), line)
+# an integer option in e-notation that is an exact integer (docs give -adapt_max_dofs as 1e6)
+good("-adapt_max_dofs 1e6", ["-options_file", opts("hertz_adapt"), "-adapt_max_dofs", "1e6", "-adapt_target", "0.05", "-output", "none"])
+good("-snes_max_it 1e3", HERTZ0 + ["-snes_max_it", "1e3"])
+bad("-adapt_max_dofs 1.5e0", ["-options_file", opts("hertz_adapt"), "-adapt_max_dofs", "1.5e0"], ["option -adapt_max_dofs", "'1.5e0' is not an integer"])
+bad("-snes_max_it 1e30", HERTZ0 + ["-snes_max_it", "1e30"], ["option -snes_max_it", "'1e30' is larger than 2147483647"])
+# before: "h5,,vtu" accepted, "," refused; -output h5 -output_hdf5 0 wrote nothing with exit 0
+for value in ("h5,,vtu", ",", "h5,", ",h5"):
+    bad("-output '%s'" % value, BLOCK + ["-output", value], ["option -output", "'%s' has an empty entry" % value], ranklist=(1,))
+bad("-output ''", BLOCK + ["-output", ""], ["option -output: needs h5, vtu, csv, summary or none"], ranklist=(1,))
+bad("-output h5 -output_hdf5 0", BLOCK + ["-output", "h5", "-output_hdf5", "0"], ["options -output h5 and -output_hdf5 0 contradict each other"])
+bad("-output none -output_vtu 1", BLOCK + ["-output", "none", "-output_vtu", "1"], ["options -output none and -output_vtu 1 contradict each other"], ranklist=(1,))
+good("-output h5 -output_hdf5 1 -output_vtu 0", BLOCK + ["-output", "h5", "-output_hdf5", "1", "-output_vtu", "0"], ranklist=(1,))
+# two values of -hertz_radius with several pairs: the line says how they are read
+r = attempt(["-options_file", opts("roller"), "-hertz_radius", "1,1", "-output", "none", "-contact_monitor", "0"], 1)
+said = [l for l in r[1].splitlines() if l.startswith("mortar2d: Hertz:")]
+report(r[0] == 0 and len(said) == 1 and "read as two cylinders of radii 1. and 1. in each of the 2 pairs" in said[0], "-hertz_radius 1,1 with two pairs: read as two cylinders in every pair, and said so", said[0] if said else "")
+# before: "turns by 45 degrees ..., more than 45"
+kink = write("kink.geo", """t = Tan(45.2 * Pi / 180);
+Point(1) = {0, 0, 0}; Point(2) = {2, 0, 0}; Point(3) = {2, 1, 0}; Point(4) = {1, 1, 0}; Point(5) = {0, 1 + t, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 1};
+Curve Loop(1) = {1, 2, 3, 4, 5}; Plane Surface(1) = {1};
+Point(11) = {2, 1, 0}; Point(12) = {2, 3, 0}; Point(13) = {0, 3, 0}; Point(14) = {0, 1 + t, 0}; Point(15) = {1, 1, 0};
+Line(11) = {11, 12}; Line(12) = {12, 13}; Line(13) = {13, 14}; Line(14) = {14, 15}; Line(15) = {15, 11};
+Curve Loop(2) = {11, 12, 13, 14, 15}; Plane Surface(2) = {2};
+Mesh.RecombineAll = 1; Mesh.SubdivisionAlgorithm = 1; Mesh.MeshSizeMax = 0.25;
+Physical Surface("lower") = {1}; Physical Surface("upper") = {2};
+Physical Curve("lower_top") = {3, 4}; Physical Curve("lower_bottom") = {1};
+Physical Curve("upper_bottom") = {14, 15}; Physical Curve("upper_top") = {12};
+""")
+
+subprocess.run(["gmsh", "-2", "-format", "msh41", "-v", "2", kink, "-o", os.path.join(W, "kink.msh")], check=True, capture_output=True)
+bad("a contact curve turning by 45.2 degrees", ["-mesh", os.path.join(W, "kink.msh"), "-bodies", "lower,upper", "-dirichlet", "lower_bottom:xy", "-pressure", "upper_top:1",
+                                               "-contact_pairs", "upper_bottom:lower_top", "-output_dir", OUT], ["'upper_bottom' turns by 45.2 degrees", "more than 45:"])
+# before: a misspelt option left the previous summary saying "status": "ok"
+for ranks in (1, 2):
+    d = os.path.join(W, "typo_%d" % ranks)
+    shutil.rmtree(d, ignore_errors=True)
+    r0 = attempt(BLOCK + ["-output_dir", d], ranks)
+    r = attempt(BLOCK + ["-output_dir", d, "-contact_metod", "nts"], ranks)
+    sm = json.load(open(os.path.join(d, "block_summary.json")))
+    report(r0[0] == 0 and r[0] == 1 and sm["status"] == "error" and "mortar2d: error: " + sm["error"] == r[2][0],
+           "a misspelt option after a good run: the summary there says status error and the line [%d rank%s]" % (ranks, "s" if ranks > 1 else ""), str(sm.get("error")))
+d = os.path.join(W, "typo_fresh")
+shutil.rmtree(d, ignore_errors=True)
+r = attempt(BLOCK + ["-output_dir", d, "-contact_metod", "nts"], 1)
+report(r[0] == 1 and not os.path.exists(d), "a misspelt option, no earlier run: nothing created")
+# before: "no mesh file given (for example -mesh patch_uniform.msh)"
+for args, culprits in (([], ["no mesh file given", "mortar2d -help lists the options"]), (["--help"], ["option --help is not mortar2d's", "mortar2d -help"]),
+                       (["-h"], ["option -h is not mortar2d's", "mortar2d -help"])):
+    bad("mortar2d %s" % " ".join(args), args, culprits, cwd=W)
 
 T.finish()

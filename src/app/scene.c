@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "optcheck.h"
 #include "options.h"
+#include "optfiles.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,8 +50,10 @@ static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *
   double d = strtod(text, &end);
 
   PetscFunctionBeginUser;
-  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d)) PetscCall(M2dOptionsDefer("option %s: '%s' in '%s' is not a finite number", opt, text, entry));
-  else *v = (PetscReal)d;
+  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d) || M2dUnderflows(text)) {
+    char shown[2][128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' in '%s' is not a finite number%s", opt, M2dShown(text, shown[0], sizeof(shown[0])), M2dShown(entry, shown[1], sizeof(shown[1])), M2dUnderflows(text) ? " (nonzero but below double precision's range)" : ""));
+  } else *v = (PetscReal)d;
   PetscFunctionReturn(0);
 }
 
@@ -82,7 +85,10 @@ static PetscErrorCode ParseEntry(const EntryForm *ef, const char *entry, char gr
   PetscCall(PetscStrallocpy(entry, &buf));
   nf  = Split(buf, f, 4);
   *nv = -1;
-  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, entry, ef->form));
+  if (!(ef->counts >> nf & 1u)) {
+    char shown[128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", ef->opt, M2dShown(entry, shown, sizeof(shown)), ef->form));
+  }
   else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", ef->opt, entry, M2D_NAME_LEN - 1));
   else {
     PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
@@ -307,11 +313,14 @@ static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene 
   PetscBool        *flag[]  = {&s->out.h5, &s->out.vtu, &s->out.csv, &s->out.summary, NULL};
   char             *list[5];
   PetscInt          n = 0;
+  PetscBool         listed, vtu, h5;
 
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsString(PetscOptionsObject, "-output_dir", "directory of the output files (created if missing)", s->out.dir, sizeof(s->out.dir), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-output_name", "base name N of the output files N.h5, N.xmf, N.vtu, N_contact.csv, N_summary.json", s->out.name, sizeof(s->out.name), NULL));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-output", "files to write: h5 (and .xmf), vtu, csv, summary, or none; default: h5,vtu,csv,summary", 5, 0, list, &n));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-output", &listed));
+  if (listed && n == 0) PetscCall(M2dOptionsDefer("option -output: needs h5, vtu, csv, summary or none"));
   for (PetscInt k = 0; k < 4 && n > 0; k++) *flag[k] = PETSC_FALSE;
   for (PetscInt i = 0; i < n; i++) {
     PetscInt k = 0;
@@ -320,8 +329,15 @@ static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene 
     else if (flag[k]) *flag[k] = PETSC_TRUE;
     PetscCall(PetscFree(list[i]));
   }
+  vtu = s->out.vtu, h5 = s->out.h5;
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_vtu", "write N.vtu (as vtu in -output)", s->out.vtu, &s->out.vtu));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_hdf5", "write N.h5 and N.xmf (as h5 in -output)", s->out.h5, &s->out.h5));
+  /* the older switches may repeat -output's list, not contradict it (-output h5 -output_hdf5 0 wrote nothing, exit 0) */
+  if (listed && n > 0 && (s->out.vtu != vtu || s->out.h5 != h5)) {
+    char given[64] = "";
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-output", given, sizeof(given), NULL));
+    PetscCall(M2dOptionsDefer("options -output %s and %s %d contradict each other (give one of them)", given, s->out.vtu != vtu ? "-output_vtu" : "-output_hdf5", (int)(s->out.vtu != vtu ? s->out.vtu : s->out.h5)));
+  }
   PetscCall(M2dOptionsString(PetscOptionsObject, "-summary", "path of the JSON summary; default: OUTPUT_DIR/N_summary.json", s->out.summary_path, sizeof(s->out.summary_path), NULL));
   PetscFunctionReturn(0);
 }
@@ -362,18 +378,19 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
 static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
 {
   const char *buf = NULL;
-  char       *end;
+  char        digits[32], shown[128];
   PetscBool   set;
-  long long   v;
+  long long   v = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsFindPair(NULL, NULL, "-snes_max_it", &buf, &set)); /* the whole value */
   if (!set) PetscFunctionReturn(0);
   if (!buf) buf = "";
-  v = strtoll(buf, &end, 10);
-  PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
-  PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
-  PetscCheck(v <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is larger than %d", buf, (int)PETSC_MAX_INT);
+  PetscCheck(M2dOptionsParseInteger(buf, &v), comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", M2dShown(buf, shown, sizeof(shown)));
+  PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %s must be >= 1", M2dShown(buf, shown, sizeof(shown)));
+  PetscCheck(v <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is larger than %d", M2dShown(buf, shown, sizeof(shown)), (int)PETSC_MAX_INT);
+  PetscCall(PetscSNPrintf(digits, sizeof(digits), "%lld", v));
+  if (strcmp(digits, buf)) PetscCall(PetscOptionsSetValue(NULL, "-snes_max_it", digits)); /* 1e3: PETSc reads digits only */
   PetscFunctionReturn(0);
 }
 
@@ -386,16 +403,16 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
   PetscFunctionBeginUser;
   for (size_t k = 0; k < sizeof(name) / sizeof(name[0]); k++) {
     const char *buf = NULL;
-    char       *end;
+    char       *end, shown[128];
     PetscBool   set;
     double      v;
     PetscCall(PetscOptionsFindPair(NULL, NULL, name[k], &buf, &set)); /* the whole value */
     if (!set) continue;
     if (!buf) buf = "";
     v = strtod(buf, &end);
-    PetscCheck(buf[0] && !*end && isfinite(v), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number", name[k], buf);
-    PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], buf);
-    PetscCheck(v < 1 || !strstr(name[k], "rtol"), comm, PETSC_ERR_USER_INPUT, "option %s: %s must be < 1", name[k], buf);
+    PetscCheck(buf[0] && !*end && isfinite(v) && !M2dUnderflows(buf), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number%s", name[k], M2dShown(buf, shown, sizeof(shown)), M2dUnderflows(buf) ? " (nonzero but below double precision's range)" : "");
+    PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], M2dShown(buf, shown, sizeof(shown)));
+    PetscCheck(v < 1 || !strstr(name[k], "rtol"), comm, PETSC_ERR_USER_INPUT, "option %s: %s must be < 1", name[k], M2dShown(buf, shown, sizeof(shown)));
   }
   PetscFunctionReturn(0);
 }
@@ -536,11 +553,19 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscOptionsBegin(comm, NULL, "mortar2d: output", "");
   PetscCall(ReadOutput(PetscOptionsObject, s));
   PetscOptionsEnd();
+  OutputArmEarly(comm, &s->out); /* a run that fails from here marks the summary an earlier run left */
   PetscCall(M2dOptionsRaise(comm));
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
   PetscCall(CheckEffect(comm, s));
-  PetscCheck(s->nmesh > 0 || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
+  if (s->nmesh == 0 && !s->geo[0]) { /* a first try at the program: point to -help */
+    for (int i = 0; i < M2dOptionsGivenCount(); i++) {
+      const char *g = M2dOptionsGiven(i, NULL);
+      PetscCheck(strcasecmp(g, "help"), comm, PETSC_ERR_USER_INPUT, "option --help is not mortar2d's: mortar2d -help lists the options (README.md the scenes)"); /* -help returned above: "--help" (recorded without its dashes) */
+      PetscCheck(strcasecmp(g, "h"), comm, PETSC_ERR_USER_INPUT, "option -%s is not mortar2d's: mortar2d -help lists the options (README.md the scenes)", g);
+    }
+    SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (a scene names its mesh: mortar2d -options_file options/patch_uniform.opts; mortar2d -help lists the options)");
+  }
   for (PetscInt i = 0; i < s->nmesh; i++) {
     char given[PETSC_MAX_PATH_LEN];
     PetscCall(PetscStrncpy(given, s->mesh[i], sizeof(given)));
@@ -609,7 +634,9 @@ PetscErrorCode SceneView(MPI_Comm comm, const M2dScene *s)
   PetscCall(PetscPrintf(comm, "mortar2d: %s, %" PetscInt_FMT " bodies:", s->plane == M2D_PLANE_STRAIN ? "plane strain" : "plane stress", s->nbody));
   for (PetscInt b = 0; b < s->nbody; b++) PetscCall(PetscPrintf(comm, " %s (E = %g, nu = %g)", s->body[b].name, (double)s->body[b].E, (double)s->body[b].nu));
   PetscCall(PetscPrintf(comm, "\n"));
-  if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
+  if (s->hertz && s->hertz_nradius == 2 && s->npair > 1) /* two values, several pairs: say how they were read (R1,R2 in every pair, not a radius per pair) */
+    PetscCall(PetscPrintf(comm, "mortar2d: Hertz: -hertz_radius %g,%g read as two cylinders of radii %g and %g in each of the %" PetscInt_FMT " pairs, effective radius R = R1 R2/(R1 + R2) = %g in every pair\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radii[0], (double)s->hertz_radii[1], s->npair, (double)s->hertz_radius));
+  else if (s->hertz && s->hertz_nradius == 2) PetscCall(PetscPrintf(comm, "mortar2d: Hertz: radii %g and %g, effective radius R = R1 R2/(R1 + R2) = %g\n", (double)s->hertz_radii[0], (double)s->hertz_radii[1], (double)s->hertz_radius));
   PetscFunctionReturn(0);
 }
 

@@ -20,7 +20,7 @@
 
 /* after OutputCheckPaths: where the summary of a failed run goes */
 static M2dOutputPaths armed;
-static PetscBool      is_armed = PETSC_FALSE;
+static PetscBool      is_armed = PETSC_FALSE, early_armed = PETSC_FALSE; /* early: the paths known, not yet checked */
 
 /* directory part ("." when none) and file name of path; errors naming opt when the name is empty */
 static PetscErrorCode SplitPath(const char *opt, const char *path, char *dir, size_t dlen, char *base, size_t blen)
@@ -228,9 +228,38 @@ PetscErrorCode OutputCheckPaths(MPI_Comm comm, M2dOutputPaths *p, const char *me
   PetscCall(PetscFree(out));
   PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscCallMPI(MPI_Bcast(p->run_id, (PetscMPIInt)sizeof(p->run_id), MPI_CHAR, 0, comm));
-  armed    = *p;
-  is_armed = (PetscBool)(rank == 0 && p->summary);
+  armed       = *p;
+  is_armed    = (PetscBool)(rank == 0 && p->summary);
+  early_armed = PETSC_FALSE;
   PetscFunctionReturn(0);
+}
+
+void OutputArmEarly(MPI_Comm comm, const M2dOutputPaths *p)
+{
+  PetscMPIInt rank = 1;
+
+  if (is_armed || !p->summary) return;
+  (void)MPI_Comm_rank(comm, &rank);
+  if (rank) return;
+  armed = *p;
+  if (!armed.summary_path[0] && (size_t)snprintf(armed.summary_path, sizeof(armed.summary_path), "%s/%s_summary.json", p->dir, p->name) >= sizeof(armed.summary_path)) return;
+  MakeRunId(armed.run_id, sizeof(armed.run_id));
+  early_armed = PETSC_TRUE;
+}
+
+/* an earlier run's summary at path (through links), which a failed run may mark */
+static PetscBool EarlierSummary(const char *path)
+{
+  char        head[512] = "";
+  FILE       *fp;
+  size_t      n;
+  struct stat st;
+
+  if (stat(path, &st) || !S_ISREG(st.st_mode) || !(fp = fopen(path, "rb"))) return PETSC_FALSE; /* never a FIFO or a terminal: reading would wait */
+  n       = fread(head, 1, sizeof(head) - 1, fp);
+  head[n] = 0;
+  fclose(fp);
+  return (PetscBool)(strstr(head, "\"program\": \"mortar2d\"") != NULL);
 }
 
 void OutputWriteFailure(const char *msg)
@@ -238,8 +267,8 @@ void OutputWriteFailure(const char *msg)
   M2dSummary s = {0};
   M2dFile    f;
 
-  if (!is_armed) return;
-  is_armed = PETSC_FALSE; /* once */
+  if (!is_armed && !(early_armed && EarlierSummary(armed.summary_path))) return; /* before the checks: only an earlier summary is marked, nothing created */
+  is_armed = early_armed = PETSC_FALSE; /* once */
   if (M2dSummaryString(&s, "", "program", "mortar2d") || M2dSummaryString(&s, "", "run_id", armed.run_id) || M2dSummaryString(&s, "", "status", "error") || M2dSummaryString(&s, "", "error", msg)) {
     (void)M2dSummaryDestroy(&s);
     return;

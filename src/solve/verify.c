@@ -104,7 +104,7 @@ static PetscErrorCode CheckEquilibrium(const M2dProblem *pb, const M2dSolution *
   ModuliCause(&pb->s, why, sizeof(why));
   PetscCheck(!why[0], comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: |K u + C^T lambda - f| = %.3e of |f|, backward error %.3e; %s", (double)v->residual_rel, (double)v->backward_error, why);
   PetscCheck(sol->factored, comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: |K u + C^T lambda - f| = %.3e of |f|, more than %.0e (an iterative solve's answer is held to that): solve more exactly (%s) or directly (the default)", (double)v->residual_rel, M2D_VERIFY_TOL,
-             sol->path == M2D_PATH_ITERATIVE || pb->s.kkt_path == M2D_KKT_PATH_ITERATIVE ? "-iterative_ksp_rtol" : "-ksp_rtol");
+             sol->path == M2D_PATH_ITERATIVE || pb->s.kkt_path == M2D_KKT_PATH_ITERATIVE ? "-iterative_ksp_rtol, -iterative_ksp_atol" : "-ksp_rtol, -ksp_atol");
   SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "the answer fails its equilibrium check: backward error %.3e (|K u + C^T lambda - f| = %.3e of |f|), more than the %.0e a factorization delivers: it lost accuracy (check E, nu and the supports%s)", (double)v->backward_error, (double)v->residual_rel, M2D_VERIFY_BACKWARD_TOL, sol->path == M2D_PATH_CONDENSED ? ", or try -kkt_path full" : "");
 }
 
