@@ -254,7 +254,7 @@ for ranks in (1, 2):
 bad("a body name longer than the program holds", PATCH + ["-bodies", "lower,upper" + "x" * 300], ["option -bodies", "305 characters, longer than the 127 allowed"])
 bad("a group name longer than the program holds", PATCH + ["-pressure", "x" * 200 + ":1e6"], ["option -pressure", "longer than 127 characters"])
 bad("an output name longer than the program holds", PATCH + ["-output_name", "y" * 300], ["option -output_name", "300 characters, longer than"])
-bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 5000], ["option -lower_E", "5001 characters, longer than the 4095 allowed"])
+bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 70000], ["option -lower_E", "70001 characters, longer than the 65535 allowed"])
 # an options file with a NUL byte: PETSc reads the line up to it
 scene = open(opts("patch_uniform"), "rb").read()
 with open(os.path.join(W, "nul.opts"), "wb") as f:

@@ -6,11 +6,15 @@
 #include "ordering.h"
 #include "outputpaths.h"
 
-#define M2D_MAX_BODIES 8
-#define M2D_MAX_BC     32
+/* The scene's fixed caps (README, -help): bodies, contact pairs, entries of
+ * -dirichlet and of -pressure with -traction, -mesh files. M2dScene holds them
+ * by value (about 0.6 MB; a copy never aliases what units.c rescales); what
+ * grows with the bodies squared (the supports' Gram matrix) is on the heap. */
+#define M2D_MAX_BODIES 256
+#define M2D_MAX_BC     512
 #define M2D_NAME_LEN   128
-#define M2D_MAX_MESH   M2D_MAX_BODIES
-#define M2D_MAX_PAIRS  16
+#define M2D_MAX_MESH   16
+#define M2D_MAX_PAIRS  512
 /* plane strain past this Poisson ratio (lambda/mu = 9): full 2x2 integration
  * locks, -q4_integration defaults to sri (problem.c) */
 #define M2D_LOCKING_NU 0.45

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
-#define VALUE_LEN 4096
+#define VALUE_LEN 65536 /* a long list: -contact_pairs of the 512 pairs a scene may hold (about 20 characters each, up to 255) */
 
 /* the first problem found while reading, raised after PetscOptionsEnd */
 static char deferred[2048];

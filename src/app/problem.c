@@ -217,6 +217,7 @@ PetscErrorCode ProblemDestroy(M2dProblem *pb)
   PetscCall(PetscFree(pb->drows));
   PetscCall(PetscFree(pb->warm));
   PetscCall(M2dFramesDestroy(&pb->frames));
+  PetscCall(M2dSupportsDestroy(&pb->supports));
   PetscCall(VecDestroy(&pb->ubc));
   PetscCall(VecDestroy(&pb->f));
   PetscCall(MatDestroy(&pb->K));

@@ -68,9 +68,9 @@ typedef struct {
 enum { ENTRY_DIRICHLET, ENTRY_PRESSURE, ENTRY_TRACTION, ENTRY_KINDS };
 
 static const EntryForm entry_forms[ENTRY_KINDS] = {
-  {"-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], comma separated; default: none", 1, 1u << 2 | 1u << 3},
-  {"-pressure",  "GROUP:P or GROUP:P:GX:GY", "normal pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in; default: none", 0, 1u << 2 | 1u << 4},
-  {"-traction",  "GROUP:TX:TY",              "traction vector GROUP:TX:TY on a physical curve, comma separated; default: none", 0, 1u << 3},
+  {"-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], up to " M2D_STR(M2D_MAX_BC) " comma separated; default: none", 1, 1u << 2 | 1u << 3},
+  {"-pressure",  "GROUP:P or GROUP:P:GX:GY", "pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in (loads: up to " M2D_STR(M2D_MAX_BC) "); default: none", 0, 1u << 2 | 1u << 4},
+  {"-traction",  "GROUP:TX:TY",              "traction vector GROUP:TX:TY on a physical curve, comma separated (loads: up to " M2D_STR(M2D_MAX_BC) "); default: none", 0, 1u << 3},
 };
 
 /* entry split by its form: GROUP into group, the word (if the form has one)
@@ -153,7 +153,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscInt          nbodies;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (at most 8); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (up to " M2D_STR(M2D_MAX_MESH) "); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -164,7 +164,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies (up to " M2D_STR(M2D_MAX_BODIES) "), comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
   s->nbody = nbodies;
   for (PetscInt i = 0; i < nbodies; i++) {
     char name[M2D_NAME_LEN + 8];
@@ -253,7 +253,7 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   char    *list[M2D_MAX_PAIRS];
   PetscInt n = 0;
 
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts],... non-mortar:mortar curve[:own method]; default: none", M2D_MAX_PAIRS, 0, list, &n));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts],... non-mortar:mortar curve[:own method], up to " M2D_STR(M2D_MAX_PAIRS) "; default: none", M2D_MAX_PAIRS, 0, list, &n));
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(ParsePair(list[i], i, s));
     PetscCall(PetscFree(list[i]));
