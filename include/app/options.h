@@ -27,7 +27,7 @@ PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const ch
  * length in buf: a value quoted in a message never pushes the reason out of
  * the line. Not collective. */
 const char    *M2dShown(const char *text, char *buf, size_t len);
-/* text is a nonzero number that strtod reads as (nearly) 0. Not collective. */
+/* text is a nonzero number that strtod reads as 0. Not collective. */
 PetscBool      M2dUnderflows(const char *text);
 /* text is an integer, in digits or in e-notation of an exact integer (1e6):
  * TRUE with *value (saturated at LLONG_MIN/MAX). Not collective. */

@@ -78,7 +78,7 @@ PetscBool M2dUnderflows(const char *text)
 
   errno = 0;
   d     = strtod(text, &end);
-  return (PetscBool)(end != text && !*end && errno == ERANGE && PetscAbsReal((PetscReal)d) < 1e-300);
+  return (PetscBool)(end != text && !*end && errno == ERANGE && d == 0); /* a subnormal (1e-308) is a number: its own checks judge it */
 }
 
 /* a finite number and nothing else (strtod also takes inf and nan: refused;

@@ -553,8 +553,8 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscOptionsBegin(comm, NULL, "mortar2d: output", "");
   PetscCall(ReadOutput(PetscOptionsObject, s));
   PetscOptionsEnd();
-  OutputArmEarly(comm, &s->out); /* a run that fails from here marks the summary an earlier run left */
   PetscCall(M2dOptionsRaise(comm));
+  OutputArmEarly(comm, &s->out); /* a run that fails from here (not at the output paths' own checks) marks the summary an earlier run left */
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
   PetscCall(CheckEffect(comm, s));

@@ -197,6 +197,7 @@ PetscErrorCode OutputCheckPaths(MPI_Comm comm, M2dOutputPaths *p, const char *me
   char                     err[1024] = "";
 
   PetscFunctionBeginUser;
+  early_armed = PETSC_FALSE; /* a run refused for its output paths touches none of them */
   PetscCall(CheckName(comm, p->name));
   PetscCall(CheckNotCut(comm, "-output_name", p->name));
   PetscCall(CheckNotCut(comm, "-output_dir", p->dir));

@@ -307,5 +307,5 @@ static int CheckCover(const M2dScene *s, const MeshSources *src, const MeshLists
 
 int MeshCheckSkeleton(const M2dScene *s, const MeshSources *src, const MeshLists *L, const MeshSkel *sk, char *err, size_t len)
 {
-  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len) || CheckCover(s, src, L, sk, err, len) || CheckPieces(s, src, L, sk, err, len);
+  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len) || CheckPieces(s, src, L, sk, err, len) || CheckCover(s, src, L, sk, err, len); /* a piece inside the body overlaps it too: the pieces say why */
 }
