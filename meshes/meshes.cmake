@@ -113,6 +113,21 @@ foreach(r 2 4 8)
   math(EXPR ny "4 * ${r}")
   m2d_mesh(arc_40_x${r} kink.geo shape 1 turn 40 nl ${nl} nu ${nu} ny ${ny})
 endforeach()
+# thin bodies (issue 33): a cantilever 10 x 0.01, refined through the thickness
+# at aspect ratio 1 (nx = 1000 ny), and the issue's 1000 x 4
+foreach(ny 1 2 4 8)
+  math(EXPR nx "1000 * ${ny}")
+  m2d_mesh(beam_${nx}x${ny} beam.geo nx ${nx} ny ${ny})
+endforeach()
+m2d_mesh(beam_1000x4 beam.geo nx 1000 ny 4)
+# two cylinders R1 = 2 on R2 = 1 (contact half-width 0.1 of the smaller radius)
+foreach(l 1 2)
+  m2d_mesh(cylinders_${l} hertz_two.geo level ${l} R1 2 R2 1)
+endforeach()
+# columns of 9 and 40 blocks, no two neighbours' meshes matching (many bodies)
+foreach(n 9 40)
+  m2d_mesh(column_${n} column.geo nblock ${n})
+endforeach()
 add_custom_target(meshes ALL DEPENDS ${M2D_MESHES})
 
 # the .msh files installed with the scenes (cmake --install): every -mesh an

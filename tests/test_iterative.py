@@ -1,7 +1,8 @@
 """The iterative path (-kkt_path iterative, src/iterative.c): the multipliers
 eliminated row by row and CG + GAMG in u.
  1. Hertz levels 0-2 (dual multipliers), the eccentric S2 load (dual
-    multipliers, and NTS) on 1, 2 and 3 ranks: the same active set as the
+    multipliers, and NTS), the stack under a pressure that pulls on part of
+    its top (the set changes at every step) on 1, 2 and 3 ranks: the same active set as the
     condensed path on one rank (and, with -iterative_prove, the same steps;
     without, at most 3 more), displacement and pressure
     equal to 1e-8 of their maxima; the answer's own checks hold
@@ -35,6 +36,10 @@ cases = [("hertz_%d" % lv, ["-options_file", opts("hertz"), "-mesh", mesh("hertz
 ecc = ["-options_file", opts("patch_uniform"), "-mesh", mesh("patch_10_31"), "-pressure", "upper_top:-1e6:4e6:0", "-exact", "none"]
 cases.append(("s2_eccentric_dual", ecc + ["-mortar_basis", "dual"]))
 cases.append(("s2_eccentric_nts", ecc + ["-contact_method", "nts"]))
+# the stack under a pressure falling to -0.5e6 across its top (issue 33 item 3):
+# the set changes every step and the zone holds every unknown (286); on 2 and
+# 3 ranks the zone's LU kept the first set's factors (DIVERGED_INDEFINITE_PC)
+cases.append(("stack_gradient_dual", ["-options_file", opts("stack"), "-pressure", "top_top:1e6:-1.5e6:0", "-exact", "none", "-mortar_basis", "dual"]))
 
 # ---------------------------------------------------------------- 1. = the condensed path
 for name, base in cases:
@@ -52,7 +57,8 @@ for name, base in cases:
         dp = np.abs(v["contact_pressure"] - vr["contact_pressure"]).max() / np.abs(vr["contact_pressure"]).max()
         check(du < 1e-8 and dp < 1e-8, "%s %d rank(s): displacement %.1e, pressure %.1e of the condensed path's" % (name, nr, du, dp))
         check(s["residual_rel"] < 1e-10 and s["complementarity"] < 1e-10, "%s %d rank(s): residual %.1e, complementarity %.1e" % (name, nr, s["residual_rel"], s["complementarity"]))
-        check(1 < s["ksp_iterations_max"] <= 60, "%s %d rank(s): at most %d CG iterations in a step (%d in all, %d preconditioner set-ups)" % (name, nr, s["ksp_iterations_max"], s["ksp_iterations_total"], s["pc_setups"]))
+        # the stack's zone is all of it: CG converges in one iteration
+        check((0 if name.startswith("stack") else 1) < s["ksp_iterations_max"] <= 60, "%s %d rank(s): at most %d CG iterations in a step (%d in all, %d preconditioner set-ups)" % (name, nr, s["ksp_iterations_max"], s["ksp_iterations_total"], s["pc_setups"]))
     # -iterative_prove: every step's set proven, so the condensed path's steps one by one
     s = solve("iter_%s_prove" % name, common + ["-kkt_path", "iterative", "-iterative_prove"])
     check(s["iterations"] == ref["iterations"] and s["active_nodes"] == ref["active_nodes"],

@@ -11,6 +11,14 @@ late or only on some paths must not be refused (no false alarm).
   3. options files: include cycles (a -> a, a -> b -> a, through
      PETSC_OPTIONS), missing or unreadable files, a line PETSc refuses;
   4. an unknown value of a choice names the option and lists the choices;
+  5. options that do nothing, values cut, files cut;
+  6. messages that named the wrong cause (issue 33 item 12): two pairs
+     sharing non-mortar edges, -iterative_ksp_atol above the steps'
+     residuals, a 3,000-digit value, integer options in e-notation, empty
+     entries of -output and -output contradicting -output_hdf5/-output_vtu,
+     two -hertz_radius values with two pairs, a turn just past 45 degrees, a
+     misspelt option after a good run (its summary marked), the program
+     started without a mesh or with -h/--help;
 and scenes run from any directory, mesh names resolved against -mesh_dir,
 -hertz_radius R1:R2 compared through its effective radius.
 
@@ -246,7 +254,7 @@ for ranks in (1, 2):
 bad("a body name longer than the program holds", PATCH + ["-bodies", "lower,upper" + "x" * 300], ["option -bodies", "305 characters, longer than the 127 allowed"])
 bad("a group name longer than the program holds", PATCH + ["-pressure", "x" * 200 + ":1e6"], ["option -pressure", "longer than 127 characters"])
 bad("an output name longer than the program holds", PATCH + ["-output_name", "y" * 300], ["option -output_name", "300 characters, longer than"])
-bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 5000], ["option -lower_E", "5001 characters, longer than the 4095 allowed"])
+bad("a number longer than any value the program reads", PATCH + ["-lower_E", "1" + "0" * 70000], ["option -lower_E", "70001 characters, longer than the 65535 allowed"])
 # an options file with a NUL byte: PETSc reads the line up to it
 scene = open(opts("patch_uniform"), "rb").read()
 with open(os.path.join(W, "nul.opts"), "wb") as f:
@@ -255,5 +263,56 @@ bad("an options file with a NUL byte", ["-options_file", os.path.join(W, "nul.op
 # more options than PETSc holds (512): one line (before: a 533-line trace)
 many = [x for i in range(500) for x in ("-opt%d" % i, str(i))]
 bad("500 more options", PATCH + many, ["different options given", "PETSc holds at most 500"])
+
+# ---------- 6. unclear messages (issue 33 item 12) ----------
+STACK_SPLIT = ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-output_dir", OUT,
+               "-contact_pairs", "mid_bottom:base_top,mid_bottom_b:base_top,top_bottom:mid_top"]
+# before: "active set did not settle", "singular Jacobian", an equilibrium failure, or exit 0 (dual, condensed)
+for extra in ([], ["-mortar_basis", "dual"], ["-kkt_path", "full"]):
+    bad("two pairs sharing non-mortar edges %s" % " ".join(extra), STACK_SPLIT + extra,
+        ["pair 1 'mid_bottom:base_top'", "pair 2 'mid_bottom_b:base_top'", "share 4 non-mortar edges"])
+good("two pairs on the two halves of a curve", ["-options_file", opts("stack"), "-mesh", mesh("stack_split"), "-contact_pairs", "mid_bottom_a:base_top,mid_bottom_b:base_top,top_bottom:mid_top"])
+# before: "active set did not settle in 50 steps (-snes_max_it)"
+bad("-iterative_ksp_atol above the steps' residuals", HERTZ0 + ["-kkt_path", "iterative", "-iterative_ksp_atol", "1e10"], ["option -iterative_ksp_atol: 1e+10 stopped the Krylov solve"])
+# before: the line cut at 2,065 characters, before the reason
+for name, value, reason in (("3,000 digits", "1" + "0" * 3000, "(3001 characters)' is not a finite number"),
+                            ("3,000 zeros after the point", "0." + "0" * 3000 + "1", "is nonzero but below double precision's range")):
+    for ranks in (1, 2):
+        r = attempt(PATCH + ["-lower_E", value], ranks)
+        line, problems = refusal_problems(r[0], r[2], ["option -lower_E", reason])
+        report(not problems and len(line) < 300, "a value of %s: the reason in one short line [%d rank%s]" % (name, ranks, "s" if ranks > 1 else ""), line)
+# an integer option in e-notation that is an exact integer (docs give -adapt_max_dofs as 1e6)
+good("-adapt_max_dofs 1e6", ["-options_file", opts("hertz_adapt"), "-adapt_max_dofs", "1e6", "-adapt_target", "0.05", "-output", "none"])
+good("-snes_max_it 1e3", HERTZ0 + ["-snes_max_it", "1e3"])
+bad("-adapt_max_dofs 1.5e0", ["-options_file", opts("hertz_adapt"), "-adapt_max_dofs", "1.5e0"], ["option -adapt_max_dofs", "'1.5e0' is not an integer"])
+bad("-snes_max_it 1e30", HERTZ0 + ["-snes_max_it", "1e30"], ["option -snes_max_it", "'1e30' is larger than 2147483647"])
+# before: "h5,,vtu" accepted, "," refused; -output h5 -output_hdf5 0 wrote nothing with exit 0
+for value in ("h5,,vtu", ",", "h5,", ",h5"):
+    bad("-output '%s'" % value, BLOCK + ["-output", value], ["option -output", "'%s' has an empty entry" % value], ranklist=(1,))
+bad("-output ''", BLOCK + ["-output", ""], ["option -output: needs h5, vtu, csv, summary or none"], ranklist=(1,))
+bad("-output h5 -output_hdf5 0", BLOCK + ["-output", "h5", "-output_hdf5", "0"], ["options -output h5 and -output_hdf5 0 contradict each other"])
+bad("-output none -output_vtu 1", BLOCK + ["-output", "none", "-output_vtu", "1"], ["options -output none and -output_vtu 1 contradict each other"], ranklist=(1,))
+good("-output h5 -output_hdf5 1 -output_vtu 0", BLOCK + ["-output", "h5", "-output_hdf5", "1", "-output_vtu", "0"], ranklist=(1,))
+# several radii with several pairs: which pair each is for must be said (-hertz_pairs)
+bad("-hertz_radius 1,1 with two pairs", ["-options_file", opts("roller"), "-hertz_radius", "1,1", "-output", "none"], ["option -hertz_radius: 2 radii", "-hertz_pairs"], ranklist=(1,))
+bad("-hertz_radius 1,2 with one pair", HERTZ0 + ["-hertz_radius", "1,2"], ["option -hertz_radius: 2 radii for the scene's one pair", "R1:R2"], ranklist=(1,))
+bad("-hertz_pairs 2 on a flat pair", ["-options_file", opts("indenter"), "-hertz", "-hertz_pairs", "2", "-output", "none"], ["option -hertz_pairs: pair 2 'block_bottom:base_top' is flat on flat"], ranklist=(1,))
+# before: a misspelt option left the previous summary saying "status": "ok"
+for ranks in (1, 2):
+    d = os.path.join(W, "typo_%d" % ranks)
+    shutil.rmtree(d, ignore_errors=True)
+    r0 = attempt(BLOCK + ["-output_dir", d], ranks)
+    r = attempt(BLOCK + ["-output_dir", d, "-contact_metod", "nts"], ranks)
+    sm = json.load(open(os.path.join(d, "block_summary.json")))
+    report(r0[0] == 0 and r[0] == 1 and sm["status"] == "error" and "mortar2d: error: " + sm["error"] == r[2][0],
+           "a misspelt option after a good run: the summary there says status error and the line [%d rank%s]" % (ranks, "s" if ranks > 1 else ""), str(sm.get("error")))
+d = os.path.join(W, "typo_fresh")
+shutil.rmtree(d, ignore_errors=True)
+r = attempt(BLOCK + ["-output_dir", d, "-contact_metod", "nts"], 1)
+report(r[0] == 1 and not os.path.exists(d), "a misspelt option, no earlier run: nothing created")
+# before: "no mesh file given (for example -mesh patch_uniform.msh)"
+for args, culprits in (([], ["no mesh file given", "mortar2d -help lists the options"]), (["--help"], ["option --help is not mortar2d's", "mortar2d -help"]),
+                       (["-h"], ["option -h is not mortar2d's", "mortar2d -help"])):
+    bad("mortar2d %s" % " ".join(args), args, culprits, cwd=W)
 
 T.finish()

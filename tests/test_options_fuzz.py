@@ -165,8 +165,8 @@ def real_values(valid, odd=(), invalid=(), odd_keeps=None, boundary=(), boundary
 
 def int_values(valid, odd=(), odd_keeps=LOAD, boundary=()):
     return ([v(x, VALID, ANSWER) for x in valid] + [v(x, BOUNDARY, LOAD) for x in boundary]
-            + [v(x, ODD, odd_keeps) for x in list(odd) + ["0", "-1"] + HUGE_INT]
-            + [v(x, INVALID) for x in ["abc", "1.5", "1e3", "", "nan", "inf", "0x10", LONG]] + [v(NOVALUE, INVALID)])
+            + [v(x, ODD, odd_keeps) for x in list(odd) + ["0", "-1", "1e3"] + HUGE_INT]  # 1e3: the program's read it, PETSc's not
+            + [v(x, INVALID) for x in ["abc", "1.5", "2.5e0", "", "nan", "inf", "0x10", LONG]] + [v(NOVALUE, INVALID)])
 
 
 def bool_values(keeps=ANSWER):
@@ -529,6 +529,8 @@ def item1(s, notes):
         notes.append("summary without residual_rel / complementarity")
     for k, tol in tols.items():
         if k in s and not (isinstance(s[k], (int, float)) and s[k] <= tol):
+            if k == "residual_rel" and "backward_error_tol" in s and s["backward_error"] <= s["backward_error_tol"]:
+                continue  # a factorization's answer, judged by its backward error (issue 33 item 2)
             out.append("item1: summary %s = %r above %g" % (k, s[k], tol))
     return out
 

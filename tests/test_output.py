@@ -23,12 +23,15 @@ run's first temporary appears in D.
     file of one run, and a mix is told by the run ids (a file whose run_id
     differs from the summary's); the next run removes the temporaries.
 Also: the byte-identical files of equal runs but for the id; a -summary
-outside D; the links an earlier version left in D; -output; the summary of a
+outside D; the links an earlier version left in D; -output (a run that
+writes part of the set removes the rest of an earlier run's); the summary of a
 failed run; a user's file and another -output_name's files
 never touched; the up-front checks (one line naming the option, D untouched);
 -summary/-mesh_save/the outputs naming a mesh, the .geo, an options file or
 each other (one line naming both options, the input untouched), 1 and 2
-ranks; -mesh_save under -adapt saves the final mesh; Ctrl-C to mpiexec from
+ranks; outputs named through symbolic links written through to the file
+they lead to (the links kept), links to anything else, into /proc
+(/dev/stdout) or in a loop refused; -mesh_save under -adapt saves the final mesh; Ctrl-C to mpiexec from
 0.05 s on and SIGTERM to a 1-rank run from 0.02 s on: the previous results
 kept; Ctrl-C while METIS runs; stdout closed by its reader."""
 import json
@@ -111,7 +114,7 @@ def read_file(p):
             return [np.array([[float(x) for x in l.split(",")[:-1]] for l in b.decode().splitlines()[1:]])]
         if p.endswith(".json"):
             j = json.loads(b)
-            for k in ("run_id", "time", "residual_rel", "complementarity", "memory_max_rank_mb"):
+            for k in ("run_id", "time", "residual_rel", "backward_error", "complementarity", "memory_max_rank_mb"):
                 j.pop(k, None)
             return j
         if p.endswith(".vtu"):
@@ -501,6 +504,36 @@ for extra, culprits in ((["-output", "h5,foo"], ["-output", "foo"]), (["-output"
     line, problems = refusal_problems(rc, err, culprits)
     report(not problems, " ".join(extra) + ": refused", ("; ".join(problems) + " -- " if problems else "") + line)
 
+# a run that writes part of the set removes the rest of an earlier run's set
+# (issue 33 item 11; before: -output csv after a full run left the summary,
+# .h5, .xmf and .vtu of the earlier run beside the new CSV, nothing said);
+# only files of mortar2d (by name and the run id inside), never a user's file,
+# a link or another -output_name's files
+for ranks in (1, 2):
+    d = os.path.join(W, "partial")
+    shutil.rmtree(d, ignore_errors=True)
+    run(args(d, "A", 1), ranks)
+    with open(os.path.join(d, NAME + "_notes.txt"), "w") as f:
+        f.write("a user's file\n")
+    rc, err, out = run(args(d, "B", 1, ["-output", "csv"]), ranks)
+    said = [l for l in out.splitlines() if l.startswith("output: removed ")]
+    report(rc == 0 and sorted(os.listdir(d)) == sorted([NAME + "_contact.csv", NAME + "_notes.txt"]) and len(said) == 1 and all(n in said[0] for n in PUB if n != NAME + "_contact.csv"),
+           "%d rank(s): -output csv after a full run: the earlier run's .vtu, .h5, .xmf and summary removed, said in one line, the user's file kept" % ranks, "%s %s %s" % (sorted(os.listdir(d)), said, err[:1]))
+d = os.path.join(W, "partial")
+run(args(d, "A", 1))
+with open(os.path.join(d, NAME + ".vtu"), "w") as f:
+    f.write("<?xml version=\"1.0\"?>\n<VTKFile>a user's own, no run id</VTKFile>\n")
+os.remove(os.path.join(d, NAME + ".xmf"))
+os.symlink(NAME + "_notes.txt", os.path.join(d, NAME + ".xmf"))
+rc, err, out = run(args(d, "B", 1, ["-output", "summary"]))
+report(rc == 0 and sorted(os.listdir(d)) == sorted([NAME + ".vtu", NAME + ".xmf", NAME + "_notes.txt", SUMMARY]) and os.path.islink(os.path.join(d, NAME + ".xmf")),
+       "-output summary: the earlier run's .h5 and CSV removed; a .vtu without a run id (a user's) and a link kept", str(sorted(os.listdir(d))))
+shutil.rmtree(d)
+run(args(d, "A", 1))
+rc, err, out = run(["-options_file", opts("block"), "-output_dir", d, "-output_name", NAME])
+report(rc == 0 and sorted(os.listdir(d)) == sorted(PUB[:3] + [SUMMARY]) and run_id(os.path.join(d, NAME + ".h5")) == run_id(os.path.join(d, SUMMARY)),
+       "a scene without contact after one with it, the same -output_name: the earlier contact CSV removed", str(sorted(os.listdir(d))))
+
 # ---------------------------------------------------------------- the summary of a failed run
 for ranks in (1, 2):
     d = os.path.join(W, "failed%d" % ranks)
@@ -605,6 +638,72 @@ for what, extra, culprits in CASES:
 report(of(state(D), "A1") and neighbours() == NB, "after the refused runs D still holds set A and its neighbours")
 report(os.path.islink(lnull) and os.readlink(lnull) == "/dev/null" and os.path.islink(lfifo) and stat.S_ISFIFO(os.lstat(afifo).st_mode)
        and stat.S_ISCHR(os.stat("/dev/null").st_mode), "the FIFO, the links and /dev/null are untouched")
+
+# ---------------------------------------------------------------- outputs named through links (issue 33 item 9)
+# a link to a regular file (or to none yet) is written through: the file it
+# leads to gets the output, the link stays (before: the link was replaced by a
+# regular file and its target kept its old content); a link to anything else,
+# or into /proc (a process's file descriptor: /dev/stdout), is refused
+LK = os.path.join(W, "through")
+
+
+def link_state(d):
+    return {n: (os.readlink(os.path.join(d, n)) if os.path.islink(os.path.join(d, n)) else None) for n in os.listdir(d)}
+
+
+fd_refused = True
+for ranks in (1, 2):
+    shutil.rmtree(LK, ignore_errors=True)
+    os.makedirs(os.path.join(LK, "real"))
+    os.makedirs(os.path.join(LK, "adir"))
+    with open(os.path.join(LK, "real", "t.json"), "w") as f:
+        f.write("old\n")
+    shutil.copy(mesh("hertz_0"), os.path.join(LK, "real", "m.h5"))  # any regular file
+    with open(os.path.join(LK, "real", "v.vtu"), "w") as f:
+        f.write("old\n")
+    for name, target in (("s.json", "real/t.json"), ("chain.json", "s.json"), ("new.json", "real/n.json"), ("m.h5", "real/m.h5"),
+                         ("dir.json", "adir"), ("fd.json", "/proc/self/fd/1"), ("loop.json", "loop.json")):
+        os.symlink(target, os.path.join(LK, name))
+    os.makedirs(os.path.join(LK, "D"))
+    os.symlink(os.path.join("..", "real", "v.vtu"), os.path.join(LK, "D", NAME + ".vtu"))
+    links = link_state(LK)
+    for what, extra, target in (("-summary a link to a file", ["-summary", os.path.join(LK, "s.json")], os.path.join(LK, "real", "t.json")),
+                                ("-summary a link to a link to a file", ["-summary", os.path.join(LK, "chain.json")], os.path.join(LK, "real", "t.json")),
+                                ("-summary a link to no file yet", ["-summary", os.path.join(LK, "new.json")], os.path.join(LK, "real", "n.json"))):
+        rc, err, _ = run(args(os.path.join(LK, "D"), "A", 0, extra), ranks)
+        ok = rc == 0 and link_state(LK) == links and os.path.isfile(target) and json.load(open(target))["status"] == "ok"
+        ok = ok and not [n for n in os.listdir(os.path.join(LK, "real")) if n.startswith(".m2d")]
+        report(ok, "%s, %d rank(s): written through, the link kept" % (what, ranks), "exit %d %s" % (rc, err[:1]))
+    rc, err, _ = run(args(os.path.join(LK, "D"), "A", 0, ["-output", "h5", "-mesh_save", os.path.join(LK, "m.h5")]), ranks)
+    ok = rc == 0 and link_state(LK) == links and h5py.is_hdf5(os.path.join(LK, "real", "m.h5"))
+    report(ok, "-mesh_save a link to a file, %d rank(s): the mesh written through, the link kept" % ranks, "exit %d %s" % (rc, err[:1]))
+    rc, err, _ = run(args(os.path.join(LK, "D"), "A", 0, ["-output", "vtu"]), ranks)
+    ok = rc == 0 and os.path.islink(os.path.join(LK, "D", NAME + ".vtu")) and run_id(os.path.join(LK, "real", "v.vtu")) not in (None, "?")
+    report(ok, "-output_dir's N.vtu a link to a file elsewhere, %d rank(s): written through, the link kept" % ranks, "exit %d %s" % (rc, err[:1]))
+    for what, name, culprits in (("a link to a directory", "dir.json", ["-summary", "dir.json", "a directory"]),
+                                 ("a link to a process's file descriptor, stdout a file", "fd.json", ["-summary", "fd.json", "/proc/self/fd/1", "file descriptor"]),
+                                 ("a link to itself", "loop.json", ["-summary", "loop.json", "too many levels of symbolic links"])):
+        with open(os.path.join(W, "stdout.txt"), "w") as f:  # /proc/self/fd/1 then leads to a regular file
+            p = subprocess.run(command(args(os.path.join(LK, "D"), "A", 0, ["-summary", os.path.join(LK, name)]), ranks), cwd=SRC, stdout=f, stderr=subprocess.PIPE, text=True, env=ENV)
+        line, problems = refusal_problems(p.returncode, [l for l in p.stderr.splitlines() if l.strip()], culprits)
+        if link_state(LK) != links:
+            problems.append("a link changed")
+        report(not problems, "-summary %s, %d rank(s): refused" % (what, ranks), ("; ".join(problems) + " -- " if problems else "") + line)
+        if name == "fd.json":
+            fd_refused = fd_refused and not problems
+# /dev/stdout with stdout redirected to a file (as root the program renamed
+# its summary over /dev/stdout): tried only once the same through a link of
+# our own was refused on 1 and 2 ranks, so that a broken build never touches /dev
+if fd_refused and os.path.islink("/dev/stdout"):
+    with open(os.path.join(W, "stdout.txt"), "w") as f:
+        p = subprocess.run(command(args(os.path.join(LK, "D"), "A", 0, ["-summary", "/dev/stdout"]), 1), cwd=SRC, stdout=f, stderr=subprocess.PIPE, text=True, env=ENV)
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    line, problems = refusal_problems(p.returncode, lines, ["-summary", "/dev/stdout", "file descriptor"])
+    if not os.path.islink("/dev/stdout"):
+        problems.append("/dev/stdout is no longer a link")
+    report(not problems, "-summary /dev/stdout, stdout a file: refused, /dev/stdout untouched", ("; ".join(problems) + " -- " if problems else "") + line)
+else:
+    report(False, "-summary /dev/stdout not tried: a link of our own to /proc/self/fd/1 was not refused")
 
 # ---------------------------------------------------------------- -mesh_save under -adapt: the final mesh
 for ranks in (1, 2):

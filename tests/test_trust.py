@@ -101,19 +101,24 @@ for E in ("1e-20", "1e-10", "1", "1e9", "1e20"):
 # beyond 1/eps one line up front, the same on 1 and 2 ranks (before: E ratio
 # 1e19 gave "cycling" on 1 rank and "held by nothing" on 2, 1e309 a MUMPS
 # INFOG(1) = -9 blamed on -mat_mumps_icntl_14); a soft support under a stiff
-# body held by contact (ratio 1e9) fails its equilibrium check, blamed on the moduli
+# body held by contact, the load scaled with the soft modulus: ratio 1e9 is
+# right to round-off (issue 33 item 2: its |r| / |f| of 1.8e-6 was refused,
+# its backward error is 1e-16) and ratio 1e12 fails its contact check, blamed
+# on the moduli
 for ranks in (1, 2):
     s = solve("trust_ratio15_%d" % ranks, S2 + ["-lower_E", "1e24"], ranks=ranks)
     check(patch_error(s) < 1e-10 and accepted(s), "S2, E 1e24 under 1e9, %d rank(s): exact to %.1e" % (ranks, patch_error(s)))
-for lowerE, culprits in (("1e-10", ["-lower_E 1e-10", "-upper_E 1e+09", "differ by a factor 1e+19"]),
-                         ("1e-300", ["-lower_E 1e-300", "differ by a factor 1e+309"]),
-                         ("1", ["equilibrium check", "moduli of 'lower' and 'upper' differ by a factor 1.0e+09", "-lower_E"])):
+    s = solve("trust_ratio9_%d" % ranks, S2 + ["-lower_E", "1", "-pressure", "upper_top:1e-3"], ranks=ranks)
+    check(patch_error(s) < 1e-5 and s["backward_error"] <= s["backward_error_tol"], "S2, E 1 under 1e9, p = 1e-3, %d rank(s): stresses right to %.1e (|r|/|f| %.1e, backward error %.1e)" % (ranks, patch_error(s), s["residual_rel"], s["backward_error"]))
+for lowerE, extra, culprits in (("1e-10", [], ["-lower_E 1e-10", "-upper_E 1e+09", "differ by a factor 1e+19"]),
+                                ("1e-300", [], ["-lower_E 1e-300", "differ by a factor 1e+309"]),
+                                ("1e-3", ["-pressure", "upper_top:1e-6"], ["contact check", "moduli of 'lower' and 'upper' differ by a factor 1.0e+12", "-lower_E"])):
     got = {}
     for ranks in (1, 2):
-        rc, lines = one_line_error("trust_ratio", S2 + ["-lower_E", lowerE], ranks)
+        rc, lines = one_line_error("trust_ratio", S2 + ["-lower_E", lowerE] + extra, ranks)
         check(rc == 1 and len(lines) == 1 and all(c in lines[0] for c in culprits),
               "S2, -lower_E %s under 1e9, %d rank(s): one line naming %s: %s" % (lowerE, ranks, culprits, lines[-1] if lines else "(none)"))
-        got[ranks] = lines[0].split(":")[2] if lowerE != "1" else culprits[1]
+        got[ranks] = lines[0].split(":")[2] if not extra else culprits[1]
     check(got[1] == got[2], "S2, -lower_E %s: the same diagnosis on 1 and 2 ranks" % lowerE)
 # results that double precision cannot hold in the user's units: one line
 # (before: a pressure of 1e-308 on E = 1e9 exited 0 with stresses wrong by
@@ -130,12 +135,15 @@ for what, extra, culprits in (("pressure 1e-308", ["-pressure", "upper_top:1e-30
 s = solve("trust_E300", S2 + ["-lower_E", "1e-297", "-upper_E", "1e-297", "-pressure", "upper_top:1e-300"])
 check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1e-300 - 1) < 1e-10 and accepted(s), "S2, E = 1e-297, p = 1e-300: exact to %.1e, force p x 1 m" % patch_error(s))
 # the same on the paths that refactor each step: the active set does not
-# settle, and the moduli are named (before: "did not settle in 50 steps (-snes_max_it)")
+# settle and the moduli are named, or it settles and the lower body's strain
+# (p / E = 1e6) is refused naming -lower_E - which of the two depends on the
+# round-off of a factorization at a condition number of 1e9 x the mesh's
+# (before: "did not settle in 50 steps (-snes_max_it)")
 for extra in (["-kkt_path", "full"], ["-snes_type", "vinewtonrsls"]):
     for ranks in (1, 2):
         rc, lines = one_line_error("trust_ratio_full", S2 + ["-lower_E", "1"] + extra, ranks)
-        check(rc == 1 and len(lines) == 1 and "the moduli of 'lower' and 'upper' differ by a factor 1.0e+09" in lines[0],
-              "S2, -lower_E 1 under 1e9, %s, %d rank(s): one line naming the moduli: %s" % (" ".join(extra), ranks, lines[-1] if lines else "(none)"))
+        named = len(lines) == 1 and ("the moduli of 'lower' and 'upper' differ by a factor 1.0e+09" in lines[0] or ("body 'lower' strains by" in lines[0] and "(-lower_E)" in lines[0]))
+        check(rc == 1 and named, "S2, -lower_E 1 under 1e9, %s, %d rank(s): one line naming the moduli or the strain and -lower_E: %s" % (" ".join(extra), ranks, lines[-1] if lines else "(none)"))
 for ranks in (1, 2):
     s = solve("trust_um_%d" % ranks, S2 + ["-mesh_scale", "1e-6"], ranks=ranks)
     check(patch_error(s) < 1e-10 and abs(s["contact_force"] / 1.0 - 1) < 1e-10,
@@ -286,7 +294,7 @@ for E, ranklist in (("0.1", (1,)), ("0.01", (1, 2))):
         check(rc == 1 and len(lines) == 1 and lines[0].startswith("mortar2d: error: body 'punch' strains by ") and "-strain_limit 0.5" in lines[0] and "-contact_reach" not in lines[0],
               "punch with -Punch_E %s, %d rank(s): one line naming the punch's strain: %s" % (E, ranks, lines[-1] if lines else "(none)"))
 rc, out, err = run(["-options_file", opts("punch"), "-Punch_E", "1", "-contact_monitor", "0", "-output_vtu", "0", "-output_dir", workdir("trust_punch_1")], check=False)
-check(rc == 0 and "warning: body 'punch' rotates by" in out, "punch with -Punch_E 1 (as soft as its foundation): solved, with a warning naming the punch's rotation")
+check(rc == 0 and "warning: body 'punch' strains by" in out, "punch with -Punch_E 1 (as soft as its foundation): solved, with a warning naming the punch's strain")
 
 # item 10: an interpenetration deeper than the reach (before: "never face each other")
 for ranks in (1, 2):

@@ -1,11 +1,16 @@
-"""Files of src/ that call each other in a circle (directly or through others).
+"""Files of src/ that call each other in a circle (directly or through others),
+and includes that point up the folders' stack.
 
-  /usr/bin/python3 tools/call_circles.py        # prints each circle; exit 1 if any
+  /usr/bin/python3 tools/call_circles.py        # prints each; exit 1 if any
 
 A file calls another when it names a function the other defines without
 `static` (a definition starts at column 0). Comments, strings and character
 literals are dropped first. Prints the strongly connected components of the
-file-call graph with more than one file, and which functions tie them."""
+file-call graph with more than one file, and which functions tie them.
+
+The folders are stacked bottom to top in the order of M2D_STAGES in
+CMakeLists.txt; a file of src/F or include/F that includes a header of a
+folder above F is an arrow back up (each such include printed)."""
 import collections
 import glob
 import os
@@ -71,5 +76,19 @@ for comp in comps:
         for b in sorted(comp):
             if b in calls[a]:
                 print("  %s -> %s: %s" % (rel(a), rel(b), ", ".join(sorted(calls[a][b]))))
-print("%d files, %d functions defined without static, %d circles" % (len(files), len(defs), len(comps)))
-sys.exit(1 if comps else 0)
+
+# the folders' stack and the includes that point up it
+stages = re.search(r"set\(M2D_STAGES ([^)]*)\)", open(os.path.join(root, "CMakeLists.txt")).read()).group(1).split()
+level = {st: k for k, st in enumerate(stages)}
+home = {os.path.basename(h): h.split(os.sep)[-2] for h in glob.glob(os.path.join(root, "include", "*", "*.h"))}
+up = []
+for f in sorted(files + glob.glob(os.path.join(root, "include", "*", "*.h"))):
+    folder = f.split(os.sep)[-2]
+    for inc in re.findall(r'^#include\s+"([^"]+)"', open(f).read(), flags=re.M):
+        to = home.get(os.path.basename(inc))
+        if to and level.get(to, -1) > level.get(folder, -1):
+            up.append("%s includes %s (%s above %s)" % (rel(f), inc, to, folder))
+for line in up:
+    print("up: " + line)
+print("%d files, %d functions defined without static, %d circles; folders %s bottom to top, %d includes back up" % (len(files), len(defs), len(comps), " < ".join(stages), len(up)))
+sys.exit(1 if comps or up else 0)

@@ -23,6 +23,15 @@ PetscErrorCode M2dOptionsRealAuto(PetscOptionItems *PetscOptionsObject, const ch
  * default, on return the values given (or the default) and their count */
 PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, PetscReal values[], PetscInt *n);
 /* integer option (base 10, nothing else in the value) */
+/* text itself when at most 80 characters, else its start, its end and its
+ * length in buf: a value quoted in a message never pushes the reason out of
+ * the line. Not collective. */
+const char    *M2dShown(const char *text, char *buf, size_t len);
+/* text is a nonzero number that strtod reads as 0. Not collective. */
+PetscBool      M2dUnderflows(const char *text);
+/* text is an integer, in digits or in e-notation of an exact integer (1e6):
+ * TRUE with *value (saturated at LLONG_MIN/MAX). Not collective. */
+PetscBool      M2dOptionsParseInteger(const char *text, long long *value);
 PetscErrorCode M2dOptionsInt(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt def, PetscInt *value, PetscBool *set);
 /* boolean option: true/false, yes/no, on/off, 1/0, or no value (true) */
 PetscErrorCode M2dOptionsBool(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscBool def, PetscBool *value);

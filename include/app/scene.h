@@ -6,12 +6,21 @@
 #include "ordering.h"
 #include "outputpaths.h"
 
-#define M2D_MAX_BODIES 8
-#define M2D_MAX_BC     32
+/* The scene's fixed caps (README, -help): bodies, contact pairs, entries of
+ * -dirichlet and of -pressure with -traction, -mesh files. M2dScene holds them
+ * by value (about 0.6 MB; a copy never aliases what units.c rescales); what
+ * grows with the bodies squared (the supports' Gram matrix) is on the heap. */
+#define M2D_MAX_BODIES 256
+#define M2D_MAX_BC     512
 #define M2D_NAME_LEN   128
-#define M2D_MAX_MESH   M2D_MAX_BODIES
-#define M2D_MAX_PAIRS  16
+#define M2D_MAX_MESH   16
+#define M2D_MAX_PAIRS  512
 #define M2D_MAX_STAGES 16 /* load stages: the scene's loads, then -stage2_... to -stageK_... */
+/* plane strain past this Poisson ratio (lambda/mu = 9): full 2x2 integration
+ * locks, -q4_integration defaults to sri (problem.c) */
+#define M2D_LOCKING_NU 0.45
+#define M2D_STR_(x)    #x
+#define M2D_STR(x)     M2D_STR_(x) /* a constant in a help string */
 
 typedef enum {
   M2D_PLANE_STRAIN,
@@ -102,6 +111,8 @@ typedef struct {
   PetscBool      materials_read; /* SceneReadMaterials has run */
   M2dPlane       plane;
   PetscBool      sri; /* selective reduced integration of the volumetric (lambda) part */
+  PetscBool      integration_set; /* -q4_integration given; else sri past M2D_LOCKING_NU in plane strain (problem.c) */
+  PetscBool      locking_warned;  /* -q4_integration full past M2D_LOCKING_NU: said once */
   PetscInt       ndir;
   M2dDirichlet   dir[M2D_MAX_BC];
   PetscInt       nload;

@@ -28,11 +28,17 @@ PetscErrorCode M2dCheckCollective(MPI_Comm comm, PetscBool bad, const char *msg)
 /* mkdir -p path.  Not collective.  Returns 0, or nonzero with the reason in msg. */
 int M2dMakeDirs(const char *path, char *msg, size_t len);
 
-/* A file this run replaces by renaming a new one over it must be absent, a
- * regular file or a symbolic link to one: renaming over /dev/null, a FIFO or a
- * socket (or a link to one) would replace that node, and as root even a device
- * of /dev.  Returns 0, or nonzero with the reason in msg.  Not collective. */
-int M2dCheckReplaceable(const char *path, char *msg, size_t len);
+/* Where an output named path really goes (tempfile.h writes it beside its
+ * target and renames it onto the target): path when absent or a regular file;
+ * through symbolic links, the file they lead to when that is absent or
+ * regular (written through: no link is ever replaced). Anything else is
+ * refused: a directory, a device, a FIFO or a socket (renaming over it would
+ * replace that node, and as root even a device of /dev), a process's file
+ * descriptor (/dev/stdout leads into /proc), a loop of links. Links of earlier
+ * versions into mortar2d's own hidden entries (".m2d.*") are replaced by the
+ * file. Returns 0 with the target, or nonzero with the reason in msg. Not
+ * collective. */
+int M2dOutputTarget(const char *path, char *target, size_t tlen, char *msg, size_t len);
 
 /* snprintf into buf that fails, naming option `opt`, when the result does not
  * fit (a path is never silently cut).  Not collective. */

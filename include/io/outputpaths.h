@@ -38,8 +38,15 @@ typedef struct {
  * the directories, remove what killed runs left there, and give the run its
  * id. Collective on comm; one-line errors naming the options. */
 PetscErrorCode OutputCheckPaths(MPI_Comm comm, M2dOutputPaths *p, const char *mesh_save, PetscInt ninput, const M2dInputFile inputs[]);
+/* Once the options are read, before they and the paths are checked: a run
+ * that then fails (a misspelt option) marks the summary an earlier run left
+ * at p's summary path (OutputWriteFailure), creating nothing. Not collective
+ * (rank 0 of comm keeps it). */
+void OutputArmEarly(MPI_Comm comm, const M2dOutputPaths *p);
 /* After an error (main's error path): write the summary {"status": "error",
  * "error": msg, ...} when the paths were checked and a summary is wanted, on
- * world rank 0. Not collective; its own failures are ignored. */
+ * world rank 0; before the check (OutputArmEarly), only over a summary of
+ * mortar2d already at that path. Not collective; its own failures are
+ * ignored. */
 void OutputWriteFailure(const char *msg);
 #endif

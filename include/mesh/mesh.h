@@ -16,7 +16,7 @@
 #include "msh.h"
 #include "scene.h"
 
-#define M2D_MAX_GROUPS 256
+#define M2D_MAX_GROUPS 1024 /* physical groups of the mesh(es): four per body at M2D_MAX_BODIES */
 
 /* A physical curve's edges that lie inside the mesh (an edge of two cells):
  * how many, and the first one (for messages). */

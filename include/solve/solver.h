@@ -30,6 +30,7 @@ typedef struct {
   Vec              active;  /* final active set (1/0, layout of lam), or NULL */
   PetscInt         ksp_its;     /* iterations of the linear solve (linear and tied paths) */
   PetscInt         ksp_its_max; /* the most iterations of any linear solve (1 for a direct one) */
+  PetscBool        factored;    /* the answer is a factorization's, no Krylov iteration (verify.h) */
   M2dActiveSetInfo as;      /* active-set paths */
   PetscReal       *eta;     /* per local cell, M2D_ETA_FIELDS values (report.h), or NULL */
   PetscReal       *sv;      /* the estimator's recovered stresses per local vertex (sigma_x, sigma_y, sigma_xy), or NULL */

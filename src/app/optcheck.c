@@ -1,6 +1,7 @@
 /* optcheck.c - see optcheck.h. */
 #include "optcheck.h"
 #include "optfiles.h"
+#include "scene.h"
 #include <ctype.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -8,7 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
-#define MAX_KNOWN 160
+#define MAX_KNOWN (2 * M2D_MAX_BODIES + 256) /* the program's own, and -A_E, -A_nu of every body */
 #define NAME_LEN  192
 
 /* the program's options, recorded as they are read (options.c) */

@@ -1,12 +1,14 @@
 /* options.c - see options.h. */
 #include "options.h"
 #include "optcheck.h"
+#include <errno.h>
+#include <limits.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-#define VALUE_LEN 4096
+#define VALUE_LEN 65536 /* a long list: -contact_pairs of the 512 pairs a scene may hold (about 20 characters each, up to 255) */
 
 /* the first problem found while reading, raised after PetscOptionsEnd */
 static char deferred[2048];
@@ -60,13 +62,33 @@ static PetscErrorCode CheckFits(const char *full, const char *text, size_t len)
   PetscFunctionReturn(0);
 }
 
-/* a finite number and nothing else (strtod also takes inf and nan: refused) */
+const char *M2dShown(const char *text, char *buf, size_t len)
+{
+  size_t n = strlen(text);
+
+  if (n <= 80) return text;
+  snprintf(buf, len, "%.32s...%s (%zu characters)", text, text + n - 16, n);
+  return buf;
+}
+
+PetscBool M2dUnderflows(const char *text)
+{
+  char  *end;
+  double d;
+
+  errno = 0;
+  d     = strtod(text, &end);
+  return (PetscBool)(end != text && !*end && errno == ERANGE && d == 0); /* a subnormal (1e-308) is a number: its own checks judge it */
+}
+
+/* a finite number and nothing else (strtod also takes inf and nan: refused;
+ * and a nonzero number below double precision's range, read as 0) */
 static PetscBool ParseFinite(const char *text, PetscReal *v)
 {
   char  *end;
   double d = strtod(text, &end);
 
-  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d)) return PETSC_FALSE;
+  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d) || M2dUnderflows(text)) return PETSC_FALSE;
   *v = (PetscReal)d;
   return PETSC_TRUE;
 }
@@ -77,15 +99,27 @@ static PetscBool IsFinite(const char *text)
   return ParseFinite(text, &v);
 }
 
-/* base-10 integer that fits a PetscInt, nothing else */
-static PetscBool IsInteger(const char *text)
+PetscBool M2dOptionsParseInteger(const char *text, long long *value)
 {
   char     *end;
   long long l;
+  PetscReal d;
 
   if (!text[0]) return PETSC_FALSE;
-  l = strtoll(text, &end, 10);
-  return (PetscBool)(!*end && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT);
+  l = strtoll(text, &end, 10); /* saturates at LLONG_MIN/MAX */
+  if (*end) { /* e-notation of an exact integer (docs give 1e6 for -adapt_max_dofs) */
+    if (!ParseFinite(text, &d) || d != PetscFloorReal(d)) return PETSC_FALSE;
+    l = d >= 9.2e18 ? LLONG_MAX : d <= -9.2e18 ? LLONG_MIN : (long long)d;
+  }
+  *value = l;
+  return PETSC_TRUE;
+}
+
+/* base-10 integer, or e-notation of one, that fits a PetscInt, nothing else */
+static PetscBool IsInteger(const char *text)
+{
+  long long l;
+  return (PetscBool)(M2dOptionsParseInteger(text, &l) && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT);
 }
 
 static PetscBool IsBool(const char *text)
@@ -108,7 +142,11 @@ static PetscErrorCode RawChecked(PetscOptionItems *PetscOptionsObject, const cha
   PetscFunctionBeginUser;
   PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
   *ok = (PetscBool)(!given || valid(buf));
-  if (!*ok) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", full, buf, what));
+  if (!*ok) {
+    char shown[128];
+    if (M2dUnderflows(buf)) PetscCall(M2dOptionsDefer("option %s: '%s' is nonzero but below double precision's range (4.9e-324)", full, M2dShown(buf, shown, sizeof(shown))));
+    else PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", full, M2dShown(buf, shown, sizeof(shown)), what));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -135,7 +173,10 @@ PetscErrorCode M2dOptionsRealAuto(PetscOptionItems *PetscOptionsObject, const ch
   *set = PETSC_FALSE;
   PetscCall(PetscOptionsString(name, help, "", shown, shown, sizeof(shown), NULL));
   if (!given || !strcasecmp(buf, "auto")) PetscFunctionReturn(0);
-  if (!ParseFinite(buf, &v)) PetscCall(M2dOptionsDefer("option %s: '%s' is neither auto nor a finite number", full, buf));
+  if (!ParseFinite(buf, &v)) {
+    char shown[128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' is neither auto nor a finite number%s", full, M2dShown(buf, shown, sizeof(shown)), M2dUnderflows(buf) ? " (nonzero but below double precision's range)" : ""));
+  }
   else {
     *value = v;
     *set   = PETSC_TRUE;
@@ -158,7 +199,8 @@ PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const ch
         PetscFunctionReturn(0);
       }
       if (!IsFinite(tok)) {
-        PetscCall(M2dOptionsDefer("option %s: '%s' is not a finite number", full, tok));
+        char shown[128];
+        PetscCall(M2dOptionsDefer("option %s: '%s' is not a finite number%s", full, M2dShown(tok, shown, sizeof(shown)), M2dUnderflows(tok) ? " (nonzero but below double precision's range)" : ""));
         PetscFunctionReturn(0);
       }
     }
@@ -181,7 +223,17 @@ PetscErrorCode M2dOptionsInt(PetscOptionItems *PetscOptionsObject, const char *n
   if (set) *set = PETSC_FALSE;
   *value = def;
   PetscCall(RawChecked(PetscOptionsObject, name, IsInteger, "an integer", &ok));
-  if (ok) PetscCall(PetscOptionsInt(name, help, "", def, value, set));
+  if (ok) {
+    char      full[256], buf[VALUE_LEN];
+    PetscBool given;
+    long long l;
+    PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
+    if (given && strspn(buf, "+-0123456789") != strlen(buf) && M2dOptionsParseInteger(buf, &l)) { /* PETSc reads no e-notation: the same integer in digits */
+      PetscCall(PetscSNPrintf(buf, sizeof(buf), "%lld", l));
+      PetscCall(PetscOptionsSetValue(PetscOptionsObject->options, full, buf));
+    }
+    PetscCall(PetscOptionsInt(name, help, "", def, value, set));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -210,7 +262,10 @@ PetscErrorCode M2dOptionsEList(PetscOptionItems *PetscOptionsObject, const char 
   }
   /* PETSc's own message for a wrong value is one line naming the option, but it is
    * raised inside PetscOptionsBegin/End (leaking the block): checked here first */
-  if (given && !ok) PetscCall(M2dOptionsDefer("option %s: unknown value '%s' (one of: %s)", full, buf, choices));
+  if (given && !ok) {
+    char shown[128];
+    PetscCall(M2dOptionsDefer("option %s: unknown value '%s' (one of: %s)", full, M2dShown(buf, shown, sizeof(shown)), choices));
+  }
   else PetscCall(PetscOptionsEList(name, help, "", list, n, list[*index], index, NULL));
   PetscFunctionReturn(0);
 }
@@ -245,6 +300,10 @@ PetscErrorCode M2dOptionsStringArray(PetscOptionItems *PetscOptionsObject, const
 
   PetscFunctionBeginUser;
   PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
+  if (given && buf[0] && (buf[0] == ',' || buf[strlen(buf) - 1] == ',' || strstr(buf, ",,"))) { /* PETSc drops all but a leading one */
+    char shown[128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' has an empty entry (two commas together, or one at an end)", full, M2dShown(buf, shown, sizeof(shown))));
+  }
   PetscCall(PetscCalloc1(max + 1, &all));
   PetscCall(PetscOptionsStringArray(name, help, "", all, &k, &given));
   if (!given) k = 0;

@@ -31,6 +31,7 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryInt(sum, "", "ranks", size);
   SummaryInt(sum, "", "bodies", pb->s.nbody);
   SummaryString(sum, "", "plane", pb->s.plane == M2D_PLANE_STRAIN ? "strain" : "stress");
+  SummaryString(sum, "", "q4_integration", pb->s.sri ? "sri" : "full"); /* sri by default past M2D_LOCKING_NU in plane strain */
   SummaryString(sum, "", "kkt_path", M2dSolverPathName(sol->path));
   if (sol->path == M2D_PATH_CONDENSED) SummaryString(sum, "", "kkt_ordering", pb->s.kkt_ordering == M2D_ORDERING_METIS ? "metis" : "mumps"); /* auto resolved (ProblemCreate) */
   /* the iteration counts of this path: one linear solve, or the active set's steps (SummarizeContact) and their solves */
@@ -43,7 +44,10 @@ static PetscErrorCode SummarizeProblem(const M2dProblem *pb, const M2dSolution *
   SummaryReal(sum, "", "residual_rel", v->residual_rel);
   SummaryReal(sum, "", "complementarity", v->complementarity);
   SummaryReal(sum, "", "strain_max", v->strain_max);
+  SummaryReal(sum, "", "rotation_max", v->rotation_max);
   SummaryReal(sum, "", "residual_tol", M2D_VERIFY_TOL);
+  SummaryReal(sum, "", "backward_error", v->backward_error);
+  if (sol->factored) SummaryReal(sum, "", "backward_error_tol", M2D_VERIFY_BACKWARD_TOL); /* a Krylov answer is held to residual_tol alone */
   SummaryReal(sum, "", "complementarity_tol", M2D_VERIFY_TOL);
   if (sol->slip) {
     SummaryReal(sum, "", "coulomb", v->coulomb);

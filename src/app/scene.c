@@ -16,6 +16,7 @@
 #include "about.h"
 #include "optcheck.h"
 #include "options.h"
+#include "optfiles.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,8 +44,10 @@ static PetscErrorCode ParseReal(const char *opt, const char *entry, const char *
   double d = strtod(text, &end);
 
   PetscFunctionBeginUser;
-  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d)) PetscCall(M2dOptionsDefer("option %s: '%s' in '%s' is not a finite number", opt, text, entry));
-  else *v = (PetscReal)d;
+  if (end == text || *end || PetscIsInfOrNanReal((PetscReal)d) || M2dUnderflows(text)) {
+    char shown[2][128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' in '%s' is not a finite number%s", opt, M2dShown(text, shown[0], sizeof(shown[0])), M2dShown(entry, shown[1], sizeof(shown[1])), M2dUnderflows(text) ? " (nonzero but below double precision's range)" : ""));
+  } else *v = (PetscReal)d;
   PetscFunctionReturn(0);
 }
 
@@ -59,9 +62,9 @@ typedef struct {
 enum { ENTRY_DIRICHLET, ENTRY_PRESSURE, ENTRY_TRACTION, ENTRY_KINDS };
 
 static const EntryForm entry_forms[ENTRY_KINDS] = {
-  {"-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], comma separated; default: none", 1, 1u << 2 | 1u << 3},
-  {"-pressure",  "GROUP:P or GROUP:P:GX:GY", "normal pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in; default: none", 0, 1u << 2 | 1u << 4},
-  {"-traction",  "GROUP:TX:TY",              "traction vector GROUP:TX:TY on a physical curve, comma separated; default: none", 0, 1u << 3},
+  {"-dirichlet", "GROUP:x|y|xy|n|t[:VALUE]", "prescribed displacement GROUP:x|y|xy|n|t[:VALUE], up to " M2D_STR(M2D_MAX_BC) " comma separated; default: none", 1, 1u << 2 | 1u << 3},
+  {"-pressure",  "GROUP:P or GROUP:P:GX:GY", "pressure GROUP:P[:GX:GY], p = P + GX x + GY y, > 0 pushes in (loads: up to " M2D_STR(M2D_MAX_BC) "); default: none", 0, 1u << 2 | 1u << 4},
+  {"-traction",  "GROUP:TX:TY",              "traction vector GROUP:TX:TY on a physical curve, comma separated (loads: up to " M2D_STR(M2D_MAX_BC) "); default: none", 0, 1u << 3},
 };
 
 /* entry split by its form: GROUP into group, the word (if the form has one)
@@ -76,8 +79,10 @@ static PetscErrorCode ParseEntry(const EntryForm *ef, const char *opt, const cha
   PetscCall(PetscStrallocpy(entry, &buf));
   nf  = Split(buf, f, 4);
   *nv = -1;
-  if (!(ef->counts >> nf & 1u)) PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", opt, entry, ef->form));
-  else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", opt, entry, M2D_NAME_LEN - 1));
+  if (!(ef->counts >> nf & 1u)) {
+    char shown[128];
+    PetscCall(M2dOptionsDefer("option %s: '%s' is not %s", opt, M2dShown(entry, shown, sizeof(shown)), ef->form));
+  } else if (strlen(f[0]) >= M2D_NAME_LEN) PetscCall(M2dOptionsDefer("option %s: the group name in '%.40s...' is longer than %d characters", opt, entry, M2D_NAME_LEN - 1));
   else {
     PetscCall(PetscStrncpy(group, f[0], M2D_NAME_LEN));
     if (ef->words) PetscCall(PetscStrncpy(word, f[1], M2D_NAME_LEN));
@@ -141,7 +146,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscInt          nbodies;
 
   PetscFunctionBeginUser;
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (at most 8); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-mesh", "gmsh .msh file(s), comma-separated (up to " M2D_STR(M2D_MAX_MESH) "); default: none, required", M2D_MAX_MESH, sizeof(s->mesh[0]), mesh, &s->nmesh));
   for (PetscInt i = 0; i < s->nmesh; i++) {
     PetscCall(PetscStrncpy(s->mesh[i], mesh[i], sizeof(s->mesh[i])));
     PetscCall(PetscFree(mesh[i]));
@@ -152,7 +157,7 @@ static PetscErrorCode ReadMeshAndBodies(PetscOptionItems *PetscOptionsObject, M2
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-mesh_check", "run PETSc's plex checks on the mesh as built", s->mesh_check, &s->mesh_check));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo", "gmsh .geo source of the scene's geometry for adaptive remeshing; default: none", s->geo, sizeof(s->geo), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-geo_dir", "directory of the -geo file when not found from the current directory", s->geo_dir, sizeof(s->geo_dir), NULL));
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies, comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-bodies", "physical surface names of the bodies (up to " M2D_STR(M2D_MAX_BODIES) "), comma separated; default: every physical surface", M2D_MAX_BODIES, M2D_NAME_LEN, bodies, &nbodies));
   s->nbody = nbodies;
   for (PetscInt i = 0; i < nbodies; i++) {
     char name[M2D_NAME_LEN + 8];
@@ -179,7 +184,8 @@ static PetscErrorCode ReadModel(PetscOptionItems *PetscOptionsObject, M2dScene *
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsEnum(PetscOptionsObject, "-plane", "plane strain or plane stress", planes, 2, (PetscEnum *)&s->plane));
   k = s->sri ? 1 : 0;
-  PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced: cures volumetric locking)", integ, 2, &k));
+  PetscCall(M2dOptionsEList(PetscOptionsObject, "-q4_integration", "Q4 stiffness: full (2x2 Gauss) or sri (selective reduced); default sri past plane-strain nu " M2D_STR(M2D_LOCKING_NU), integ, 2, &k));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-q4_integration", &s->integration_set));
   s->sri = (PetscBool)(k == 1);
   PetscFunctionReturn(0);
 }
@@ -315,7 +321,7 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   char    *list[M2D_MAX_PAIRS];
   PetscInt n = 0;
 
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts][:MU],... (non-mortar:mortar[:method][:friction]); default: none", M2D_MAX_PAIRS, 0, list, &n));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts][:MU],... (non-mortar:mortar[:method][:friction]), up to " M2D_STR(M2D_MAX_PAIRS) "; default: none", M2D_MAX_PAIRS, 0, list, &n));
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(ParsePair(list[i], i, s));
     PetscCall(PetscFree(list[i]));
@@ -379,8 +385,8 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-cattaneo", "with -hertz and friction: compare the shear traction with Cattaneo-Mindlin", s->cattaneo, &s->cattaneo));
   PetscCall(ReadHertzPairs(PetscOptionsObject, s));
-  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load, > 0; auto: the -pressure's resultant (x2 on a half model), else the contact's", &s->hertz_load, &s->hertz_load_set));
-  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain or rotation an answer may reach (small strain), > 0; a warning above 0.01", s->strain_limit, &s->strain_limit, NULL));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: the -pressure's resultant (x2 on a half model), else the contact's", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain an answer may reach (a rotation t counts as t^2/2), > 0; warned above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -411,11 +417,14 @@ static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene 
   PetscBool        *flag[]  = {&s->out.h5, &s->out.vtu, &s->out.csv, &s->out.summary, NULL};
   char             *list[5];
   PetscInt          n = 0;
+  PetscBool         listed, vtu, h5;
 
   PetscFunctionBeginUser;
   PetscCall(M2dOptionsString(PetscOptionsObject, "-output_dir", "directory of the output files (created if missing)", s->out.dir, sizeof(s->out.dir), NULL));
   PetscCall(M2dOptionsString(PetscOptionsObject, "-output_name", "base name N of the output files N.h5, N.xmf, N.vtu, N_contact.csv, N_summary.json", s->out.name, sizeof(s->out.name), NULL));
   PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-output", "files to write: h5 (and .xmf), vtu, csv, summary, or none; default: h5,vtu,csv,summary", 5, 0, list, &n));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-output", &listed));
+  if (listed && n == 0) PetscCall(M2dOptionsDefer("option -output: needs h5, vtu, csv, summary or none"));
   for (PetscInt k = 0; k < 4 && n > 0; k++) *flag[k] = PETSC_FALSE;
   for (PetscInt i = 0; i < n; i++) {
     PetscInt k = 0;
@@ -424,8 +433,15 @@ static PetscErrorCode ReadOutput(PetscOptionItems *PetscOptionsObject, M2dScene 
     else if (flag[k]) *flag[k] = PETSC_TRUE;
     PetscCall(PetscFree(list[i]));
   }
+  vtu = s->out.vtu, h5 = s->out.h5;
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_vtu", "write N.vtu (as vtu in -output)", s->out.vtu, &s->out.vtu));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-output_hdf5", "write N.h5 and N.xmf (as h5 in -output)", s->out.h5, &s->out.h5));
+  /* the older switches may repeat -output's list, not contradict it (-output h5 -output_hdf5 0 wrote nothing, exit 0) */
+  if (listed && n > 0 && (s->out.vtu != vtu || s->out.h5 != h5)) {
+    char given[64] = "";
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-output", given, sizeof(given), NULL));
+    PetscCall(M2dOptionsDefer("options -output %s and %s %d contradict each other (give one of them)", given, s->out.vtu != vtu ? "-output_vtu" : "-output_hdf5", (int)(s->out.vtu != vtu ? s->out.vtu : s->out.h5)));
+  }
   PetscCall(M2dOptionsString(PetscOptionsObject, "-summary", "path of the JSON summary; default: OUTPUT_DIR/N_summary.json", s->out.summary_path, sizeof(s->out.summary_path), NULL));
   PetscFunctionReturn(0);
 }
@@ -469,18 +485,19 @@ static PetscErrorCode CheckMumps(MPI_Comm comm, const M2dScene *s)
 static PetscErrorCode CheckSNESMaxIt(MPI_Comm comm)
 {
   const char *buf = NULL;
-  char       *end;
+  char        digits[32], shown[128];
   PetscBool   set;
-  long long   v;
+  long long   v = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsFindPair(NULL, NULL, "-snes_max_it", &buf, &set)); /* the whole value */
   if (!set) PetscFunctionReturn(0);
   if (!buf) buf = "";
-  v = strtoll(buf, &end, 10);
-  PetscCheck(buf[0] && !*end, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", buf);
-  PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %lld must be >= 1", v);
-  PetscCheck(v <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is larger than %d", buf, (int)PETSC_MAX_INT);
+  PetscCheck(M2dOptionsParseInteger(buf, &v), comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is not an integer", M2dShown(buf, shown, sizeof(shown)));
+  PetscCheck(v >= 1, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: %s must be >= 1", M2dShown(buf, shown, sizeof(shown)));
+  PetscCheck(v <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT, "option -snes_max_it: '%s' is larger than %d", M2dShown(buf, shown, sizeof(shown)), (int)PETSC_MAX_INT);
+  PetscCall(PetscSNPrintf(digits, sizeof(digits), "%lld", v));
+  if (strcmp(digits, buf)) PetscCall(PetscOptionsSetValue(NULL, "-snes_max_it", digits)); /* 1e3: PETSc reads digits only */
   PetscFunctionReturn(0);
 }
 
@@ -493,16 +510,16 @@ static PetscErrorCode CheckTolerances(MPI_Comm comm)
   PetscFunctionBeginUser;
   for (size_t k = 0; k < sizeof(name) / sizeof(name[0]); k++) {
     const char *buf = NULL;
-    char       *end;
+    char       *end, shown[128];
     PetscBool   set;
     double      v;
     PetscCall(PetscOptionsFindPair(NULL, NULL, name[k], &buf, &set)); /* the whole value */
     if (!set) continue;
     if (!buf) buf = "";
     v = strtod(buf, &end);
-    PetscCheck(buf[0] && !*end && isfinite(v), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number", name[k], buf);
-    PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], buf);
-    PetscCheck(v < 1 || !strstr(name[k], "rtol"), comm, PETSC_ERR_USER_INPUT, "option %s: %s must be < 1", name[k], buf);
+    PetscCheck(buf[0] && !*end && isfinite(v) && !M2dUnderflows(buf), comm, PETSC_ERR_USER_INPUT, "option %s: '%s' is not a finite number%s", name[k], M2dShown(buf, shown, sizeof(shown)), M2dUnderflows(buf) ? " (nonzero but below double precision's range)" : "");
+    PetscCheck(v >= 0, comm, PETSC_ERR_USER_INPUT, "option %s: %s must be >= 0", name[k], M2dShown(buf, shown, sizeof(shown)));
+    PetscCheck(v < 1 || !strstr(name[k], "rtol"), comm, PETSC_ERR_USER_INPUT, "option %s: %s must be < 1", name[k], M2dShown(buf, shown, sizeof(shown)));
   }
   PetscFunctionReturn(0);
 }
@@ -696,10 +713,18 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscCall(ReadOutput(PetscOptionsObject, s));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
+  OutputArmEarly(comm, &s->out); /* a run that fails from here (not at the output paths' own checks) marks the summary an earlier run left */
   PetscCall(CheckScene(comm, s));
   if (s->help) PetscFunctionReturn(0); /* -help documents the options; no files are needed */
   PetscCall(CheckEffect(comm, s));
-  PetscCheck(s->nmesh > 0 || s->geo[0], comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh patch_uniform.msh)");
+  if (s->nmesh == 0 && !s->geo[0]) { /* a first try at the program: point to -help */
+    for (int i = 0; i < M2dOptionsGivenCount(); i++) {
+      const char *g = M2dOptionsGiven(i, NULL);
+      PetscCheck(strcasecmp(g, "help"), comm, PETSC_ERR_USER_INPUT, "option --help is not mortar2d's: mortar2d -help lists the options (README.md the scenes)"); /* -help returned above: "--help" (recorded without its dashes) */
+      PetscCheck(strcasecmp(g, "h"), comm, PETSC_ERR_USER_INPUT, "option -%s is not mortar2d's: mortar2d -help lists the options (README.md the scenes)", g);
+    }
+    SETERRQ(comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (a scene names its mesh: mortar2d -options_file options/patch_uniform.opts; mortar2d -help lists the options)");
+  }
   for (PetscInt i = 0; i < s->nmesh; i++) {
     char given[PETSC_MAX_PATH_LEN];
     PetscCall(PetscStrncpy(given, s->mesh[i], sizeof(given)));

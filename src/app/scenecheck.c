@@ -55,6 +55,67 @@ static PetscErrorCode CheckContactSide(MPI_Comm comm, const M2dScene *s, const M
   PetscFunctionReturn(0);
 }
 
+/* a non-mortar edge: its two nodes (u_x dofs, the smaller first) and midpoint */
+typedef struct {
+  PetscInt  a, b;
+  PetscReal x, y;
+} EdgeKey;
+
+static int CmpEdgeKey(const void *p, const void *q)
+{
+  const EdgeKey *e = (const EdgeKey *)p, *f = (const EdgeKey *)q;
+  if (e->a != f->a) return e->a < f->a ? -1 : 1;
+  return (e->b > f->b) - (e->b < f->b);
+}
+
+/* pair p's non-mortar edges, sorted */
+static PetscErrorCode EdgeKeys(const M2dMesh *m, const M2dPair *p, PetscInt *n, EdgeKey **key)
+{
+  M2dSurface sf;
+
+  PetscFunctionBeginUser;
+  PetscCall(SurfaceGather(m, p->nm, p->opt_nm, &sf));
+  *n = sf.nedge;
+  PetscCall(PetscMalloc1(sf.nedge + 1, key));
+  for (PetscInt e = 0; e < sf.nedge; e++) {
+    PetscInt i = sf.edge[2 * e], j = sf.edge[2 * e + 1];
+    (*key)[e]  = (EdgeKey){PetscMin(sf.gdof[i], sf.gdof[j]), PetscMax(sf.gdof[i], sf.gdof[j]), 0.5 * (sf.x[2 * i] + sf.x[2 * j]), 0.5 * (sf.x[2 * i + 1] + sf.x[2 * j + 1])};
+  }
+  qsort(*key, (size_t)sf.nedge, sizeof(EdgeKey), CmpEdgeKey);
+  PetscCall(SurfaceDestroy(&sf));
+  PetscFunctionReturn(0);
+}
+
+/* an edge is the non-mortar side of at most one pair: in two, its nodes carry
+ * two multipliers each for one condition (singular; a pair's curve and a part
+ * of it named as another pair's gave four different wrong causes) */
+static PetscErrorCode CheckSharedNonMortar(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
+{
+  PetscInt *n, shared = 0, first[2] = {-1, -1};
+  EdgeKey **key;
+  EdgeKey   at = {0, 0, 0, 0};
+
+  PetscFunctionBeginUser;
+  if (s->npair < 2) PetscFunctionReturn(0);
+  PetscCall(PetscCalloc2(s->npair, &n, s->npair, &key));
+  for (PetscInt k = 0; k < s->npair; k++) PetscCall(EdgeKeys(m, &s->pair[k], &n[k], &key[k]));
+  for (PetscInt k = 0; k < s->npair && !shared; k++)
+    for (PetscInt l = k + 1; l < s->npair && !shared; l++)
+      for (PetscInt i = 0, j = 0; i < n[k] && j < n[l];) {
+        int c = CmpEdgeKey(&key[k][i], &key[l][j]);
+        if (c < 0) i++;
+        else if (c > 0) j++;
+        else {
+          if (!shared) at = key[k][i], first[0] = k, first[1] = l;
+          shared++, i++, j++;
+        }
+      }
+  for (PetscInt q = 0; q < s->npair; q++) PetscCall(PetscFree(key[q]));
+  PetscCall(PetscFree2(n, key));
+  PetscCheck(!shared, comm, PETSC_ERR_USER_INPUT, "%s and %s share %" PetscInt_FMT " non-mortar edge%s (one at (%g, %g)): its nodes would carry two multipliers for one contact; give each edge to one pair (a non-mortar curve in one pair only)", s->pair[first[0]].what, s->pair[first[1]].what, shared, shared > 1 ? "s" : "", (double)at.x, (double)at.y);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m)
 {
   PetscFunctionBeginUser;
@@ -77,5 +138,6 @@ PetscErrorCode SceneCheckMesh(MPI_Comm comm, const M2dScene *s, const M2dMesh *m
     PetscCall(CheckContactSide(comm, s, m, p->m, p->opt_m, &bm));
     PetscCheck(bnm != bm, comm, PETSC_ERR_USER_INPUT, "%s: both sides lie on body '%s' (a pair joins two bodies)", p->what, s->body[bnm].name);
   }
+  PetscCall(CheckSharedNonMortar(comm, s, m));
   PetscFunctionReturn(0);
 }

@@ -27,6 +27,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
   t[M2D_STAGE_SOLVE] = M2dWallTime();
   PetscCall(M2dSolverSolve(&st->pb, path, &st->sol));
+  PetscCall(M2dVerifyTestPerturb(st->sol.u));
   PetscCall(M2dVerifyAnswer(&st->pb, &st->sol, &st->v));
   if (st->pb.has_contact) PetscCall(ContactResults(&st->pb.contact, st->pb.kkt.C, st->pb.kkt.r, st->sol.u, st->sol.lam, st->sol.active, st->sol.slip));
   PetscCall(M2dFramesRotateGlobal(&st->pb.frames, &st->pb.mesh, st->sol.u, PETSC_TRUE)); /* u = T u~ from here on */

@@ -5,7 +5,10 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <limits.h>
+#include <linux/magic.h>
 #include <sys/stat.h>
+#include <sys/statfs.h>
 #include <unistd.h>
 
 static char first_error[4096];
@@ -118,20 +121,58 @@ static const char *NodeKind(mode_t m)
   return S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device" : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
 }
 
-int M2dCheckReplaceable(const char *path, char *msg, size_t len)
+/* is path's directory on procfs (/proc/self/fd/1: a process's file descriptor)? */
+static int OnProc(const char *path)
 {
+  char          dir[PATH_MAX];
+  const char   *slash = strrchr(path, '/');
+  struct statfs fs;
+
+  snprintf(dir, sizeof(dir), "%.*s", slash ? (slash == path ? 1 : (int)(slash - path)) : 1, slash ? path : ".");
+  return !statfs(dir, &fs) && fs.f_type == PROC_SUPER_MAGIC;
+}
+
+int M2dOutputTarget(const char *path, char *target, size_t tlen, char *msg, size_t len)
+{
+  char        cur[PATH_MAX], link[PATH_MAX];
   struct stat st;
 
-  if (lstat(path, &st)) return 0; /* absent (or unreachable: the write says why) */
-  if (S_ISREG(st.st_mode)) return 0;
-  if (S_ISLNK(st.st_mode)) {
-    if (stat(path, &st)) return 0; /* a dangling link: replaced by the file */
-    if (S_ISREG(st.st_mode)) return 0;
-    snprintf(msg, len, "'%s' is a symbolic link to %s, not to a regular file (the file is written beside it and renamed over it: name a file)", path, NodeKind(st.st_mode));
+  if (snprintf(cur, sizeof(cur), "%s", path) >= (int)sizeof(cur)) {
+    snprintf(msg, len, "'%.60s...' is too long a path", path);
     return 1;
   }
-  snprintf(msg, len, "'%s' is %s, not a regular file (the file is written beside it and renamed over it: name a file)", path, NodeKind(st.st_mode));
-  return 1;
+  for (int hop = 0;; hop++) {
+    ssize_t     n;
+    const char *slash;
+    if (lstat(cur, &st) || S_ISREG(st.st_mode)) break; /* absent (or unreachable: the write says why), or a file */
+    if (!S_ISLNK(st.st_mode)) {
+      if (hop) snprintf(msg, len, "'%s' is a symbolic link to '%s', %s, not to a regular file (name a file)", path, cur, NodeKind(st.st_mode));
+      else snprintf(msg, len, "'%s' is %s, not a regular file (the output is written beside it and renamed onto it: name a file)", path, NodeKind(st.st_mode));
+      return 1;
+    }
+    if (OnProc(cur)) {
+      if (hop) snprintf(msg, len, "'%s' leads to '%s', a process's file descriptor, not a file (name a file)", path, cur);
+      else snprintf(msg, len, "'%s' is a process's file descriptor (a link in /proc), not a file (name a file)", path);
+      return 1;
+    }
+    if (hop == 40 || (n = readlink(cur, link, sizeof(link) - 1)) < 0) {
+      snprintf(msg, len, "'%s': %s", path, hop == 40 ? "too many levels of symbolic links" : strerror(errno));
+      return 1;
+    }
+    link[n] = 0;
+    if (!hop && !strncmp(link, ".m2d.", 5)) break; /* earlier versions' links into their own hidden entries: replaced */
+    slash = strrchr(cur, '/');
+    if (link[0] == '/' || !slash) snprintf(cur, sizeof(cur), "%s", link);
+    else if (snprintf(cur + (slash + 1 - cur), sizeof(cur) - (size_t)(slash + 1 - cur), "%s", link) >= (int)(sizeof(cur) - (size_t)(slash + 1 - cur))) {
+      snprintf(msg, len, "'%s': its link leads to too long a path", path);
+      return 1;
+    }
+  }
+  if (snprintf(target, tlen, "%s", cur) >= (int)tlen) {
+    snprintf(msg, len, "'%s' leads to too long a path", path);
+    return 1;
+  }
+  return 0;
 }
 
 PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char *fmt, ...)

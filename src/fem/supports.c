@@ -2,8 +2,6 @@
 #include "supports.h"
 #include <petscblaslapack.h>
 
-#define MAXM M2D_MAX_MODES
-
 /* the three rigid modes of body b at point x, component d */
 static void Modes(const M2dSupports *f, PetscInt b, const PetscReal x[2], PetscInt d, PetscReal r[3])
 {
@@ -12,13 +10,15 @@ static void Modes(const M2dSupports *f, PetscInt b, const PetscReal x[2], PetscI
   r[2] = d == 0 ? -(x[1] - f->centroid[b][1]) / f->size[b] : (x[0] - f->centroid[b][0]) / f->size[b];
 }
 
-static void AddRow(PetscReal *G, PetscInt n, const PetscReal *g)
+/* G += g g^T / |g|^2 for a row g of at most two bodies' modes: idx[0..k) its
+ * entries (k <= 6) */
+static void AddRow(PetscReal *G, PetscInt n, PetscInt k, const PetscInt idx[], const PetscReal g[])
 {
   PetscReal nrm = 0;
-  for (PetscInt i = 0; i < n; i++) nrm += g[i] * g[i];
+  for (PetscInt i = 0; i < k; i++) nrm += g[i] * g[i];
   if (nrm == 0) return;
-  for (PetscInt i = 0; i < n; i++)
-    for (PetscInt j = 0; j < n; j++) G[i * n + j] += g[i] * g[j] / nrm;
+  for (PetscInt i = 0; i < k; i++)
+    for (PetscInt j = 0; j < k; j++) G[idx[i] * n + idx[j]] += g[i] * g[j] / nrm;
 }
 
 /* body of each local vertex; centroids and extents of the bodies */
@@ -74,6 +74,7 @@ PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dF
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(sup, sizeof(*sup)));
   sup->nbody = nb;
+  PetscCall(PetscCalloc1(n * n + 1, &sup->gram));
   PetscCall(PetscMalloc1(m->vEnd - m->vStart + 1, &vbody));
   PetscCall(BodyFrames(m, nb, vbody, sup));
   PetscCall(DMGetGlobalSection(m->dm, &gsec));
@@ -94,15 +95,16 @@ PetscErrorCode M2dSupportsCreate(const M2dMesh *m, const M2dScene *s, const M2dF
     for (PetscInt d = 0; d < 2; d++) {
       PetscCall(PetscFindInt(goff + d, ndir, sorted, &loc));
       if (loc >= 0) { /* the row holds u.dir: dir = e_d, or the frame's n (d = 0) or t (d = 1) */
-        PetscReal g[MAXM] = {0}, rx[3], ry[3], nrm[2], dir[2] = {(PetscReal)(d == 0), (PetscReal)(d == 1)};
+        PetscReal g[3], rx[3], ry[3], nrm[2], dir[2] = {(PetscReal)(d == 0), (PetscReal)(d == 1)};
+        PetscInt  idx[3] = {3 * b, 3 * b + 1, 3 * b + 2};
         if (M2dFramesAt(fr, m, v, nrm)) {
           dir[0] = d == 0 ? nrm[0] : -nrm[1];
           dir[1] = d == 0 ? nrm[1] : nrm[0];
         }
         Modes(sup, b, x, 0, rx);
         Modes(sup, b, x, 1, ry);
-        for (int k = 0; k < 3; k++) g[3 * b + k] = dir[0] * rx[k] + dir[1] * ry[k];
-        AddRow(sup->gram, n, g);
+        for (int k = 0; k < 3; k++) g[k] = dir[0] * rx[k] + dir[1] * ry[k];
+        AddRow(sup->gram, n, 3, idx, g);
       }
     }
   }
@@ -125,8 +127,11 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
     for (PetscInt j = 0; j < cp->R.n + cp->T.n; j++) { /* the normal rows, then a sticking node's tangential ones */
       const M2dContactRows *R = j < cp->R.n ? &cp->R : &cp->T;
       PetscInt              ir = j < cp->R.n ? j : j - cp->R.n, row = j < cp->R.n ? cp->off + j : cp->toff + ir;
-      PetscReal             g[MAXM] = {0};
+      PetscReal             g[6] = {0}; /* the modes of the pair's two bodies (non-mortar's, mortar's) */
+      PetscInt              idx[6];
       if (active && PetscRealPart(active[row]) == 0) continue;
+      for (int q = 0; q < 2; q++)
+        for (int t = 0; t < 3; t++) idx[3 * q + t] = 3 * sf[q]->body + t;
       for (PetscInt k = R->ptr[ir]; k < R->ptr[ir + 1]; k++) {
         PetscInt col = R->col[k], d = col % 2, base = col - d;
         for (int q = 0; q < 2; q++) {
@@ -134,14 +139,13 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
           PetscCall(PetscFindInt(base, sf[q]->nnode, sf[q]->gdof, &i));
           if (i >= 0) {
             PetscReal r[3];
-            PetscInt  b = sf[q]->body;
-            Modes(sup, b, &sf[q]->x[2 * i], d, r);
-            for (int t = 0; t < 3; t++) g[3 * b + t] += R->val[k] * r[t];
+            Modes(sup, sf[q]->body, &sf[q]->x[2 * i], d, r);
+            for (int t = 0; t < 3; t++) g[3 * q + t] += R->val[k] * r[t];
             break;
           }
         }
       }
-      AddRow(G, n, g);
+      AddRow(G, n, 6, idx, g);
     }
   }
   PetscFunctionReturn(0);
@@ -149,40 +153,52 @@ static PetscErrorCode AddContactRows(const M2dSupports *sup, const M2dContact *c
 
 /* the eigen-decomposition of G with the contact rows selected by active:
  * eigenvalues w ascending, vectors in G; *gmax the scale of a zero one */
-static PetscErrorCode Decompose(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscReal *G, PetscReal *w, PetscReal *gmax)
+/* G (n x n) and w (n), to free with PetscFree2 */
+static PetscErrorCode Decompose(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscReal **G, PetscReal **w, PetscReal *gmax)
 {
   PetscInt     n = 3 * sup->nbody;
-  PetscReal    work[10 * MAXM];
-  PetscBLASInt bn, lwork = 10 * MAXM, info;
+  PetscReal   *work;
+  PetscBLASInt bn, lwork = 10 * (PetscBLASInt)n, info;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArraycpy(G, sup->gram, n * n));
-  if (ct) PetscCall(AddContactRows(sup, ct, active, G));
+  PetscCall(PetscMalloc2(n * n, G, n, w));
+  PetscCall(PetscMalloc1(lwork, &work));
+  PetscCall(PetscArraycpy(*G, sup->gram, n * n));
+  if (ct) PetscCall(AddContactRows(sup, ct, active, *G));
   PetscCall(PetscBLASIntCast(n, &bn));
-  PetscCallBLAS("LAPACKsyev", LAPACKsyev_("V", "U", &bn, G, &bn, w, work, &lwork, &info));
+  PetscCallBLAS("LAPACKsyev", LAPACKsyev_("V", "U", &bn, *G, &bn, *w, work, &lwork, &info));
+  PetscCall(PetscFree(work));
   PetscCheck(info == 0, comm, PETSC_ERR_LIB, "rigid-mode check: LAPACK syev failed (%d)", (int)info);
-  *gmax = PetscMax(w[n - 1], 1.0);
+  *gmax = PetscMax((*w)[n - 1], 1.0);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode M2dSupportsHeld(const M2dSupports *sup, MPI_Comm comm, const M2dContact *ct, const PetscScalar *active, PetscBool *held)
 {
-  PetscReal G[MAXM * MAXM], w[MAXM], gmax;
+  PetscReal *G, *w, gmax;
 
   PetscFunctionBeginUser;
-  PetscCall(Decompose(sup, comm, ct, active, G, w, &gmax));
+  PetscCall(Decompose(sup, comm, ct, active, &G, &w, &gmax));
   *held = (PetscBool)(w[0] > 1e-12 * gmax);
+  PetscCall(PetscFree2(G, w));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode M2dSupportsDestroy(M2dSupports *sup)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(sup->gram));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2dScene *s, const M2dContact *ct, const PetscScalar *active, const char *when)
 {
-  PetscInt  n = 3 * sup->nbody;
-  PetscReal G[MAXM * MAXM], w[MAXM], gmax;
-  char      what[96];
+  PetscInt   n = 3 * sup->nbody, bad = -1;
+  PetscReal *G, *w, gmax;
+  char       what[96];
 
   PetscFunctionBeginUser;
-  PetscCall(Decompose(sup, comm, ct, active, G, w, &gmax));
+  PetscCall(Decompose(sup, comm, ct, active, &G, &w, &gmax));
   for (PetscInt e = 0; e < n; e++) { /* a (near) zero eigenvalue: name the body and the motion that dominates it */
     const PetscReal *vec = &G[e * n];
     PetscInt         imax, b;
@@ -202,8 +218,11 @@ PetscErrorCode M2dSupportsCheck(const M2dSupports *sup, MPI_Comm comm, const M2d
       PetscReal sg = (PetscAbsReal(tx) >= PetscAbsReal(ty) ? tx : ty) < 0 ? -1 : 1;
       PetscCall(PetscSNPrintf(what, sizeof(what), "translation along (%.4f, %.4f)", (double)(sg * tx / tn), (double)(sg * ty / tn)));
     }
-    if (when) SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s %s: the load separates the bodies and no -dirichlet support holds it", s->body[b].name, what, when);
-    SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s: no -dirichlet support and no contact surface resists it (frictionless contact holds only the normal direction)", s->body[b].name, what);
+    bad = b;
+    break;
   }
-  PetscFunctionReturn(0);
+  PetscCall(PetscFree2(G, w));
+  if (bad < 0) PetscFunctionReturn(0);
+  if (when) SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s %s: the load separates the bodies and no -dirichlet support holds it", s->body[bad].name, what, when);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "body '%s' is held by nothing against %s: no -dirichlet support and no contact surface resists it (frictionless contact holds only the normal direction)", s->body[bad].name, what);
 }

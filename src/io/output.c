@@ -6,6 +6,7 @@
 #include <hdf5.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 typedef struct {
@@ -525,6 +526,60 @@ PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldS
   PetscFunctionReturn(0);
 }
 
+/* a file mortar2d wrote: the run id it carries, where the writers put it */
+static PetscBool OursByRunId(const char *path, const char *suffix)
+{
+  char   head[512] = "";
+  FILE  *fp;
+  size_t n;
+
+  if (!strcmp(suffix, ".h5")) {
+    hid_t     f;
+    PetscBool ours = PETSC_FALSE;
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    if (H5Fis_hdf5(path) <= 0 || (f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) < 0) return PETSC_FALSE;
+    ours = (PetscBool)(H5Aexists(f, "run_id") > 0);
+    H5Fclose(f);
+    return ours;
+  }
+  if (!(fp = fopen(path, "rb"))) return PETSC_FALSE;
+  n       = fread(head, 1, sizeof(head) - 1, fp);
+  head[n] = 0;
+  fclose(fp);
+  if (!strcmp(suffix, "_contact.csv")) { /* the header's last column */
+    char *nl = strchr(head, '\n');
+    return (PetscBool)(nl && nl - head >= 7 && !strncmp(nl - 7, ",run_id", 7));
+  }
+  if (!strcmp(suffix, "_summary.json")) return (PetscBool)(strstr(head, "\"program\": \"mortar2d\"") && strstr(head, "\"run_id\""));
+  return (PetscBool)(strstr(head, "<!-- mortar2d run_id ") != NULL);
+}
+
+/* Rank 0, once this run's files are in place: the files of the set D/N that
+ * this run did not write (-output leaves them out, or the scene has no
+ * contact CSV) and that an earlier run of mortar2d wrote (recognised by name
+ * and the run id inside) are removed, so that D/N never mixes two runs. Links
+ * and anything else are left alone. */
+static PetscErrorCode RemoveOtherRuns(M2dOutput *o)
+{
+  static const char *const suffix[] = {".vtu", ".h5", ".xmf", "_contact.csv", "_summary.json"};
+  const M2dOutputPaths    *p        = o->paths;
+  char                     gone[5 * PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  for (int k = 0; k < 5; k++) {
+    char        path[PETSC_MAX_PATH_LEN];
+    struct stat st, mine;
+    PetscBool   written = PETSC_FALSE;
+    if ((size_t)snprintf(path, sizeof(path), "%s/%s%s", p->dir, p->name, suffix[k]) >= sizeof(path) || lstat(path, &st) || !S_ISREG(st.st_mode)) continue;
+    for (PetscInt j = 0; j < o->n && !written; j++) written = (PetscBool)(!stat(o->file[j].final, &mine) && mine.st_dev == st.st_dev && mine.st_ino == st.st_ino);
+    if (written || !OursByRunId(path, suffix[k]) || unlink(path)) continue;
+    PetscCall(PetscStrlcat(gone, gone[0] ? ", " : "", sizeof(gone)));
+    PetscCall(PetscStrlcat(gone, path, sizeof(gone)));
+  }
+  if (gone[0]) PetscCall(PetscPrintf(PETSC_COMM_SELF, "output: removed %s: an earlier run's files of the set '%s' that this run did not write (one set, one run)\n", gone, p->name));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OutputCommit(M2dOutput *o)
 {
   char           err[1024] = "";
@@ -539,6 +594,7 @@ PetscErrorCode OutputCommit(M2dOutput *o)
       }
     if (!ierr) M2dSignalsAwaitLauncher(); /* results only once a Ctrl-C to mpiexec would have ended the run */
     if (!ierr) ierr = M2dFilePublish(o->n, o->file);
+    if (!ierr) ierr = RemoveOtherRuns(o);
     if (ierr) {
       PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
       OutputAbort(o);

@@ -20,7 +20,7 @@
 
 /* after OutputCheckPaths: where the summary of a failed run goes */
 static M2dOutputPaths armed;
-static PetscBool      is_armed = PETSC_FALSE;
+static PetscBool      is_armed = PETSC_FALSE, early_armed = PETSC_FALSE; /* early: the paths known, not yet checked */
 
 /* directory part ("." when none) and file name of path; errors naming opt when the name is empty */
 static PetscErrorCode SplitPath(const char *opt, const char *path, char *dir, size_t dlen, char *base, size_t blen)
@@ -73,18 +73,26 @@ typedef struct {
   char        path[PETSC_MAX_PATH_LEN], dir[PETSC_MAX_PATH_LEN], base[M2D_NAME_MAX + 1];
 } Output;
 
+/* o's directory and name: those of path, where its temporary must fit too (tempfile.h), for any process id */
+static PetscErrorCode SetWhere(Output *o, const char *path)
+{
+  char tmp[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(SplitPath(o->option, path, o->dir, sizeof(o->dir), o->base, sizeof(o->base)));
+  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), o->option, "%s/" M2D_WORST_TAG "%s", o->dir, o->base));
+  PetscCall(M2dPathPrintf(tmp, M2D_NAME_MAX + 1, o->option, M2D_WORST_TAG "%s", o->base));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode AddOutput(Output out[], PetscInt *n, const char *option, const char *path)
 {
   Output *o = &out[(*n)++];
-  char    tmp[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   o->option = option;
   PetscCall(M2dPathPrintf(o->path, sizeof(o->path), option, "%s", path));
-  PetscCall(SplitPath(option, path, o->dir, sizeof(o->dir), o->base, sizeof(o->base)));
-  /* its temporary must fit too (tempfile.h), for any process id */
-  PetscCall(M2dPathPrintf(tmp, sizeof(tmp), option, "%s/" M2D_WORST_TAG "%s", o->dir, o->base));
-  PetscCall(M2dPathPrintf(tmp, M2D_NAME_MAX + 1, option, M2D_WORST_TAG "%s", o->base));
+  PetscCall(SetWhere(o, path));
   PetscFunctionReturn(0);
 }
 
@@ -134,17 +142,16 @@ static PetscBool SameFile(const char *a, const char *b)
 /* rank 0: the kind of each output and no input among them (an input exists:
  * an output in a directory yet to be made is none), then the directories
  * (made, a file created in each, leftovers removed), then no two outputs the same */
-static PetscErrorCode CheckLocal(const Output out[], PetscInt nout, PetscInt nfield, PetscInt ninput, const M2dInputFile in[])
+static PetscErrorCode CheckLocal(Output out[], PetscInt nout, PetscInt nfield, PetscInt ninput, const M2dInputFile in[])
 {
-  char why[PETSC_MAX_PATH_LEN + 200];
+  char why[2 * PETSC_MAX_PATH_LEN + 200], target[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < nout; k++) {
-    const Output *o = &out[k];
-    struct stat   st;
-    PetscCheck(stat(o->path, &st) || !S_ISDIR(st.st_mode), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: '%s' is a directory", o->option, o->path);
-    PetscCheck(!M2dCheckReplaceable(o->path, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s", o->option, why);
+    Output *o = &out[k];
     PetscCheck(strncmp(o->base, M2D_TEMP_PREFIX, strlen(M2D_TEMP_PREFIX)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: names starting with '" M2D_TEMP_PREFIX "' are mortar2d's own (%s)", o->option, o->path);
+    PetscCheck(!M2dOutputTarget(o->path, target, sizeof(target), why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s", o->option, why);
+    if (strcmp(target, o->path)) PetscCall(SetWhere(o, target)); /* a link, written through: its target's directory is probed */
     for (PetscInt i = 0; i < ninput; i++)
       PetscCheck(!SameFile(o->path, in[i].path), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "options %s and %s name the same file '%s': the output would replace an input", o->option, in[i].option, o->path);
   }
@@ -190,6 +197,7 @@ PetscErrorCode OutputCheckPaths(MPI_Comm comm, M2dOutputPaths *p, const char *me
   char                     err[1024] = "";
 
   PetscFunctionBeginUser;
+  early_armed = PETSC_FALSE; /* a run refused for its output paths touches none of them */
   PetscCall(CheckName(comm, p->name));
   PetscCall(CheckNotCut(comm, "-output_name", p->name));
   PetscCall(CheckNotCut(comm, "-output_dir", p->dir));
@@ -221,9 +229,38 @@ PetscErrorCode OutputCheckPaths(MPI_Comm comm, M2dOutputPaths *p, const char *me
   PetscCall(PetscFree(out));
   PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscCallMPI(MPI_Bcast(p->run_id, (PetscMPIInt)sizeof(p->run_id), MPI_CHAR, 0, comm));
-  armed    = *p;
-  is_armed = (PetscBool)(rank == 0 && p->summary);
+  armed       = *p;
+  is_armed    = (PetscBool)(rank == 0 && p->summary);
+  early_armed = PETSC_FALSE;
   PetscFunctionReturn(0);
+}
+
+void OutputArmEarly(MPI_Comm comm, const M2dOutputPaths *p)
+{
+  PetscMPIInt rank = 1;
+
+  if (is_armed || !p->summary) return;
+  (void)MPI_Comm_rank(comm, &rank);
+  if (rank) return;
+  armed = *p;
+  if (!armed.summary_path[0] && (size_t)snprintf(armed.summary_path, sizeof(armed.summary_path), "%s/%s_summary.json", p->dir, p->name) >= sizeof(armed.summary_path)) return;
+  MakeRunId(armed.run_id, sizeof(armed.run_id));
+  early_armed = PETSC_TRUE;
+}
+
+/* an earlier run's summary at path (through links), which a failed run may mark */
+static PetscBool EarlierSummary(const char *path)
+{
+  char        head[512] = "";
+  FILE       *fp;
+  size_t      n;
+  struct stat st;
+
+  if (stat(path, &st) || !S_ISREG(st.st_mode) || !(fp = fopen(path, "rb"))) return PETSC_FALSE; /* never a FIFO or a terminal: reading would wait */
+  n       = fread(head, 1, sizeof(head) - 1, fp);
+  head[n] = 0;
+  fclose(fp);
+  return (PetscBool)(strstr(head, "\"program\": \"mortar2d\"") != NULL);
 }
 
 void OutputWriteFailure(const char *msg)
@@ -231,8 +268,8 @@ void OutputWriteFailure(const char *msg)
   M2dSummary s = {0};
   M2dFile    f;
 
-  if (!is_armed) return;
-  is_armed = PETSC_FALSE; /* once */
+  if (!is_armed && !(early_armed && EarlierSummary(armed.summary_path))) return; /* before the checks: only an earlier summary is marked, nothing created */
+  is_armed = early_armed = PETSC_FALSE; /* once */
   if (M2dSummaryString(&s, "", "program", "mortar2d") || M2dSummaryString(&s, "", "run_id", armed.run_id) || M2dSummaryString(&s, "", "status", "error") || M2dSummaryString(&s, "", "error", msg)) {
     (void)M2dSummaryDestroy(&s);
     return;

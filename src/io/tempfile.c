@@ -407,12 +407,14 @@ PetscErrorCode M2dTmpName(const char *path, char *tmp, size_t len)
 
 PetscErrorCode M2dFileOpen(const char *path, PetscBool stdio, M2dFile *f)
 {
+  char why[2 * PETSC_MAX_PATH_LEN + 200];
+
   PetscFunctionBeginUser;
   f->fp     = NULL;
   f->slot   = -1;
   f->tmp[0] = 0;
-  PetscCall(PetscStrncpy(f->final, path, sizeof(f->final)));
-  PetscCall(M2dTmpName(path, f->tmp, sizeof(f->tmp)));
+  PetscCheck(!M2dOutputTarget(path, f->final, sizeof(f->final), why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write output file: %s", why); /* through a link: onto its target */
+  PetscCall(M2dTmpName(f->final, f->tmp, sizeof(f->tmp)));
   f->slot = Record(f->tmp, 0);
   PetscCheck(f->slot >= 0, PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot record the temporary '%.200s': more than %d temporaries", f->tmp, M2D_TEMP_MAX);
   if (!stdio) PetscFunctionReturn(0);

@@ -12,8 +12,19 @@
  *     surfaces of one physical surface, one drawn inside the other), and a
  *     piece apart from the rest is held by nothing the per-body support
  *     check sees (supports.h) - both were solved with exit 0.
- * (Sum of cell areas = area enclosed by the boundary holds by algebra once 2
- * holds, the shoelace terms of interior edges cancelling: it cannot catch 3.) */
+ *  5. the cells' areas sum to the area the body's boundary encloses. With 1
+ *     and 2 the number of cells over a point is the winding number of the
+ *     boundary edges (each oriented as its cell runs through it) around it,
+ *     so the sum of the areas is the integral of that number, and the two
+ *     areas differ by the ground two or more cells cover: a convex quad given
+ *     another node of its body lies over its neighbours while 1-4 hold (its
+ *     new edges and the old ones are boundary edges that do not cross). The
+ *     enclosed area is summed over vertical slabs between the boundary's
+ *     vertices, where the boundary's edges are ordered bottom to top:
+ *     exact for the mesh's own straight edges, whatever the curve they
+ *     approximate (a circle's CAD area would differ by the chords).
+ * (The shoelace sum over the boundary edges equals the cells' areas by
+ * algebra once 2 holds: it cannot tell a boundary wound twice.) */
 #include "mesh_impl.h"
 #include <math.h>
 #include <stdio.h>
@@ -154,7 +165,147 @@ static int CheckPieces(const M2dScene *s, const MeshSources *src, const MeshList
   return 1;
 }
 
+/* check 5, one body: its boundary edges, oriented by their cells, left to right */
+typedef struct {
+  PetscReal x0, y0, x1, y1; /* x0 < x1 */
+  int       dir;            /* +1: the cell runs left to right (it lies above), -1 right to left (below) */
+} SEdge;
+
+static int CmpSEdge(const void *x, const void *y)
+{
+  const SEdge *a = (const SEdge *)x, *b = (const SEdge *)y;
+  return (a->x0 > b->x0) - (a->x0 < b->x0);
+}
+
+static int CmpReal(const void *x, const void *y)
+{
+  PetscReal a = *(const PetscReal *)x, b = *(const PetscReal *)y;
+  return (a > b) - (a < b);
+}
+
+typedef struct {
+  PetscReal y;
+  int       dir;
+} SCut;
+
+static int CmpSCut(const void *x, const void *y)
+{
+  const SCut *a = (const SCut *)x, *b = (const SCut *)y;
+  return (a->y > b->y) - (a->y < b->y);
+}
+
+/* the ground covered twice or more between the boundary edges ed[0..n): the
+ * integral of (winding number - 1)+ over the slabs; where the most is, in at */
+static PetscReal OverlapArea(SEdge *ed, PetscInt n, PetscReal *xs, PetscInt *act, SCut *cut, PetscReal at[2])
+{
+  PetscInt  nx = 0, na = 0, next = 0;
+  PetscReal area = 0, most = 0;
+
+  for (PetscInt i = 0; i < n; i++) xs[nx++] = ed[i].x0, xs[nx++] = ed[i].x1;
+  qsort(xs, (size_t)nx, sizeof(PetscReal), CmpReal);
+  qsort(ed, (size_t)n, sizeof(SEdge), CmpSEdge);
+  for (PetscInt i = 0; i + 1 < nx; i++) {
+    PetscReal a = xs[i], b = xs[i + 1], xm = 0.5 * (a + b);
+    PetscInt  k = 0, w = 0;
+    if (!(b > a)) continue;
+    for (PetscInt j = 0; j < na; j++) /* drop the edges that end at a */
+      if (ed[act[j]].x1 > a) act[k++] = act[j];
+    na = k;
+    while (next < n && ed[next].x0 <= a) act[na++] = next++;
+    for (PetscInt j = 0; j < na; j++) {
+      const SEdge *e = &ed[act[j]];
+      cut[j]         = (SCut){e->y0 + (e->y1 - e->y0) * (xm - e->x0) / (e->x1 - e->x0), e->dir};
+    }
+    qsort(cut, (size_t)na, sizeof(SCut), CmpSCut);
+    for (PetscInt j = 0; j + 1 < na; j++) {
+      PetscReal band;
+      w += cut[j].dir;
+      if (w < 2) continue;
+      band = (b - a) * (cut[j + 1].y - cut[j].y) * (PetscReal)(w - 1);
+      area += band;
+      if (band > most) most = band, at[0] = xm, at[1] = 0.5 * (cut[j].y + cut[j + 1].y);
+    }
+  }
+  return area;
+}
+
+/* is (x, y) inside convex counter-clockwise quad c? */
+static int InQuad(const MeshLists *L, PetscInt c, const PetscReal p[2])
+{
+  for (int j = 0; j < 4; j++) {
+    const PetscReal *a = &L->coords[2 * L->cells[4 * c + j]], *b = &L->coords[2 * L->cells[4 * c + (j + 1) % 4]];
+    if ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) <= 0) return 0;
+  }
+  return 1;
+}
+
+static PetscReal QuadArea(const MeshLists *L, PetscInt c)
+{
+  PetscReal a = 0;
+  for (int j = 0; j < 4; j++) {
+    const PetscReal *p = &L->coords[2 * L->cells[4 * c + j]], *q = &L->coords[2 * L->cells[4 * c + (j + 1) % 4]];
+    a += 0.5 * (p[0] * q[1] - q[0] * p[1]);
+  }
+  return a;
+}
+
+/* check 5 */
+static int CheckCover(const M2dScene *s, const MeshSources *src, const MeshLists *L, const MeshSkel *sk, char *err, size_t len)
+{
+  PetscInt  nb = 0, bad = -1;
+  SEdge    *ed;
+  PetscReal *xs, at[2] = {0, 0}, over = 0, total = 0;
+  PetscInt  *act;
+  SCut      *cut;
+
+  for (PetscInt e = 0; e < sk->ne; e++) nb += sk->ecell[2 * e + 1] < 0;
+  ed  = (SEdge *)malloc((size_t)(nb + 1) * sizeof(SEdge));
+  xs  = (PetscReal *)malloc((size_t)(2 * nb + 1) * sizeof(PetscReal));
+  act = (PetscInt *)malloc((size_t)(nb + 1) * sizeof(PetscInt));
+  cut = (SCut *)malloc((size_t)(nb + 1) * sizeof(SCut));
+  if (!ed || !xs || !act || !cut) {
+    free(ed), free(xs), free(act), free(cut);
+    snprintf(err, len, "out of memory checking the mesh %s", src->all);
+    return 1;
+  }
+  for (PetscInt b = 0; b < s->nbody && bad < 0; b++) {
+    PetscInt  n = 0;
+    PetscReal amin = PETSC_MAX_REAL;
+    total = 0;
+    for (PetscInt c = 0; c < sk->nc; c++)
+      if (L->cellbody[c] == b) {
+        PetscReal a = QuadArea(L, c);
+        total += a, amin = PetscMin(amin, a);
+      }
+    for (PetscInt e = 0; e < sk->ne; e++) {
+      PetscInt         c = sk->ecell[2 * e], j = 0;
+      const PetscReal *p, *q;
+      if (sk->ecell[2 * e + 1] >= 0 || L->cellbody[c] != b) continue;
+      while (j < 3 && sk->side[4 * c + j] != e) j++;
+      p = &L->coords[2 * L->cells[4 * c + j]], q = &L->coords[2 * L->cells[4 * c + (j + 1) % 4]];
+      if (p[0] < q[0]) ed[n++] = (SEdge){p[0], p[1], q[0], q[1], 1};
+      else if (q[0] < p[0]) ed[n++] = (SEdge){q[0], q[1], p[0], p[1], -1};
+    }
+    over = OverlapArea(ed, n, xs, act, cut, at);
+    if (over > 1e-3 * amin) bad = b; /* round-off is far below: bands ordered by exact orientations of non-crossing edges */
+  }
+  free(ed), free(xs), free(act), free(cut);
+  if (bad < 0) return 0;
+  {
+    PetscInt c1 = -1, c2 = -1;
+    for (PetscInt c = 0; c < sk->nc && c2 < 0; c++)
+      if (L->cellbody[c] == bad && InQuad(L, c, at)) {
+        if (c1 < 0) c1 = c;
+        else c2 = c;
+      }
+    if (c2 >= 0)
+      snprintf(err, len, "%s, body '%s': quadrilaterals %ld and %ld overlap near (%g, %g) (the cells' areas sum to %g, the body's boundary encloses %g: %g is covered twice)", src->label[L->cellsrc[c2]], BodyName(s, bad), L->celltag[c1], L->celltag[c2], at[0], at[1], total, total - over, over);
+    else snprintf(err, len, "%s, body '%s': cells overlap near (%g, %g) (the cells' areas sum to %g, the body's boundary encloses %g: %g is covered twice)", src->all, BodyName(s, bad), at[0], at[1], total, total - over, over);
+  }
+  return 1;
+}
+
 int MeshCheckSkeleton(const M2dScene *s, const MeshSources *src, const MeshLists *L, const MeshSkel *sk, char *err, size_t len)
 {
-  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len) || CheckPieces(s, src, L, sk, err, len);
+  return CheckEdges(s, src, L, sk, err, len) || CheckBoundary(s, src, L, sk, err, len) || CheckPieces(s, src, L, sk, err, len) || CheckCover(s, src, L, sk, err, len); /* a piece inside the body overlaps it too: the pieces say why */
 }

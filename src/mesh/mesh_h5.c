@@ -67,7 +67,7 @@ PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt rank;
-  char        tmp[PETSC_MAX_PATH_LEN + 32], err[M2D_ERR_LEN] = "";
+  char        tmp[PETSC_MAX_PATH_LEN + 32], target[PETSC_MAX_PATH_LEN], err[M2D_ERR_LEN] = "";
   DMLabel     body;
   PetscViewer v;
 
@@ -75,10 +75,10 @@ PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0) { /* every rank writes the same temporary file, renamed when complete */
     FILE *fp;
-    char  why[PETSC_MAX_PATH_LEN + 160];
-    M2dTmpName(path, tmp, sizeof(tmp));
+    char  why[2 * PETSC_MAX_PATH_LEN + 200];
     if (!MeshIsHDF5(path)) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: '%s' does not end in .h5", path));
-    else if (M2dCheckReplaceable(path, why, sizeof(why))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: %s", why));
+    else if (M2dOutputTarget(path, target, sizeof(target), why, sizeof(why))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: %s", why));
+    else if (M2dTmpName(target, tmp, sizeof(tmp))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: '%s' is too long a path", path));
     else if (!(fp = fopen(tmp, "wb"))) PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: cannot write '%s': %s", path, strerror(errno)));
     else fclose(fp);
   }
@@ -95,7 +95,7 @@ PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRemoveLabel(m->dm, M2D_BODY_LABEL, &body));
   PetscCall(DMLabelDestroy(&body));
-  if (rank == 0 && rename(tmp, path)) {
+  if (rank == 0 && rename(tmp, target)) { /* through a link: onto its target */
     PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: cannot write '%s': %s", path, strerror(errno)));
     remove(tmp);
   }

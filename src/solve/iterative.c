@@ -539,6 +539,14 @@ PetscErrorCode M2dIterativeSetActive(M2dIterative *it, Vec active, PetscReal c, 
     PetscCall(PCSetUp(it->amg));
     PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->zone, it->Z ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->Z));
     PetscCall(MatCreateSubMatrices(it->Ar, 1, &it->zone, &it->halo, it->G ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &it->G));
+    /* on several ranks, with the zone holding every unknown (a small scene),
+     * PETSc 3.18's reuse refreshes the values of Z but not its state, and the
+     * LU's set-up then kept the factors of the last set: a zone solve of the
+     * wrong operator, an indefinite preconditioner (the stack with a set
+     * changing each step: DIVERGED_INDEFINITE_PC on 2 and 3 ranks); the
+     * assembly marks Z as changed */
+    PetscCall(MatAssemblyBegin(it->Z[0], MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(it->Z[0], MAT_FINAL_ASSEMBLY));
     PetscCall(KSPSetOperators(it->zksp, it->Z[0], it->Z[0]));
     PetscCall(KSPSetUp(it->zksp));
   }
@@ -561,6 +569,22 @@ static PetscErrorCode SolveFailed(M2dIterative *it)
   PetscCall(KSPGetIterationNumber(it->ksp, &its));
   PetscCall(KSPGetResidualNorm(it->ksp, &rnorm));
   SETERRQ(it->comm, PETSC_ERR_NOT_CONVERGED, "-kkt_path iterative: the Krylov solve of active-set step %" PetscInt_FMT " did not converge (%s after %" PetscInt_FMT " iterations, residual %.3e); try -iterative_pc_type gamg, more -iterative_ksp_max_it, or -kkt_path condensed", it->info.solves, KSPConvergedReasons[reason], its, (double)rnorm);
+}
+
+/* A user's -iterative_ksp_atol above the residual the step asks for stops CG
+ * short of it, at once when above the right-hand side: nothing is solved and
+ * the active set cannot settle (it said "did not settle in 50 steps") */
+static PetscErrorCode StoppedByAtol(M2dIterative *it, PetscReal rtol, PetscReal rnorm)
+{
+  KSPConvergedReason reason;
+  PetscReal          atol;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetConvergedReason(it->ksp, &reason));
+  PetscCall(KSPGetTolerances(it->ksp, NULL, &atol, NULL, NULL));
+  PetscCheck(!(reason == KSP_CONVERGED_ATOL && rnorm > rtol * it->r0 && atol > 1e-40), it->comm, PETSC_ERR_USER_INPUT, "option -iterative_ksp_atol: %g stopped the Krylov solve of %s %" PetscInt_FMT " at a residual of %.3e of its right-hand side (%.3e), short of the %.0e it was asked for; lower -iterative_ksp_atol or leave it out (default: none)",
+             (double)atol, it->c > 0 ? "active-set step" : "solve", it->info.solves, (double)(it->r0 > 0 ? rnorm / it->r0 : 0), (double)it->r0, (double)rtol);
+  PetscFunctionReturn(0);
 }
 
 /* CG on the u system to rtol of its right-hand side, from v (cont) or from 0.
@@ -604,6 +628,7 @@ static PetscErrorCode Krylov(M2dIterative *it, PetscReal rtol, PetscBool cont)
   PetscCall(SolveFailed(it));
   it->info.its_max = PetscMax(it->info.its_max, it->its_step);
   PetscCall(KSPGetResidualNorm(it->ksp, &rnorm));
+  PetscCall(StoppedByAtol(it, rtol, rnorm));
   it->rlast     = rnorm;
   it->pace_last = rnorm > 0 && rnorm < it->rpace ? it->its_step / PetscLog10Real(it->rpace / rnorm) : 0;
   PetscFunctionReturn(0);

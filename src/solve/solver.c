@@ -119,6 +119,30 @@ static PetscErrorCode SetupLinearKSP(KSP ksp, M2dOrdering ord)
   PetscFunctionReturn(0);
 }
 
+/* Is the answer of ksp a factorization's (backward stable: verify.c judges
+ * its residual by the backward error)? ksp NULL: the options' KSP (the full
+ * path's, PREONLY + LU unless the options say otherwise). */
+static PetscErrorCode Factored(KSP ksp, PetscBool *factored)
+{
+  PetscBool preonly, factor;
+
+  PetscFunctionBeginUser;
+  if (ksp) {
+    PC pc;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PetscObjectTypeCompare((PetscObject)ksp, KSPPREONLY, &preonly));
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  } else {
+    char kt[64] = KSPPREONLY, pt[64] = PCLU;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-ksp_type", kt, sizeof(kt), NULL));
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_type", pt, sizeof(pt), NULL));
+    preonly = (PetscBool)!strcmp(kt, KSPPREONLY);
+    factor  = (PetscBool)(!strcmp(pt, PCLU) || !strcmp(pt, PCCHOLESKY));
+  }
+  *factored = (PetscBool)(preonly && factor);
+  PetscFunctionReturn(0);
+}
+
 /* the one line for a failed linear solve */
 static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal augment)
 {
@@ -185,6 +209,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
   } else PetscCall(KSPSolve(ksp, pb->f, sol->u));
   PetscCall(LinearSolveFailed(ksp, contact, pb->s.kkt_augment));
   PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
+  PetscCall(Factored(ksp, &sol->factored));
   PetscCall(KSPDestroy(&ksp));
   PetscFunctionReturn(0);
 }
@@ -252,6 +277,10 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *s
   PetscCall(M2dActiveSetDestroy(&as, &sol->as)); /* also after an error: it holds the factorization */
   PetscCall(ierr);
   sol->ksp_its_max = path == M2D_PATH_LINEAR || path == M2D_PATH_TIED ? sol->ksp_its : sol->as.ksp_its_max;
+  if (path != M2D_PATH_LINEAR && path != M2D_PATH_TIED) { /* SolveLinear judged its own KSP */
+    if (sol->as.condensed) sol->factored = PETSC_TRUE; /* MUMPS' LDL^T of K, a dense LU of the interface */
+    else if (path != M2D_PATH_ITERATIVE) PetscCall(Factored(NULL, &sol->factored));
+  }
   PetscFunctionReturn(0);
 }
 
