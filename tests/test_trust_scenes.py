@@ -33,7 +33,7 @@ T = Tally()
 CYL = ["-bodies", "upper,lower", "-upper_E", "200", "-upper_nu", "0.3", "-lower_E", "70", "-lower_nu", "0.3", "-plane", "strain",
        "-dirichlet", "upper_axis:x,lower_axis:x,lower_bottom:xy", "-pressure", "upper_top:0.1678",
        "-contact_nonmortar", "upper_arc", "-contact_mortar", "lower_arc", "-mortar_basis", "dual",
-       "-hertz", "-hertz_radius", "2,1", "-output_vtu", "0", "-contact_monitor", "0"]
+       "-hertz", "-hertz_radius", "2:1", "-output_vtu", "0", "-contact_monitor", "0"]
 L, T_, E, NU, TY = 10.0, 0.01, 1e9, 0.3, 0.005
 BEAM = ["-bodies", "beam", "-beam_E", repr(E), "-beam_nu", repr(NU), "-plane", "stress", "-dirichlet", "beam_left:xy",
         "-output_vtu", "0"]

@@ -321,7 +321,7 @@ static PetscErrorCode ReadContact(PetscOptionItems *PetscOptionsObject, M2dScene
   char    *list[M2D_MAX_PAIRS];
   PetscInt n = 0;
 
-  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "pairs NM:M[:standard|dual|nts][:MU],... (non-mortar:mortar[:method][:friction]), up to " M2D_STR(M2D_MAX_PAIRS) "; default: none", M2D_MAX_PAIRS, 0, list, &n));
+  PetscCall(M2dOptionsStringArray(PetscOptionsObject, "-contact_pairs", "NM:M[:standard|dual|nts][:MU],... (non-mortar:mortar:method:friction), at most " M2D_STR(M2D_MAX_PAIRS) "; default: none", M2D_MAX_PAIRS, 0, list, &n));
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(ParsePair(list[i], i, s));
     PetscCall(PetscFree(list[i]));
@@ -385,7 +385,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-cattaneo", "with -hertz and friction: compare the shear traction with Cattaneo-Mindlin", s->cattaneo, &s->cattaneo));
   PetscCall(ReadHertzPairs(PetscOptionsObject, s));
-  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: the -pressure's resultant (x2 on a half model), else the contact's", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: the -pressure resultant (x2 on a half model) or the contact force", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain an answer may reach (a rotation t counts as t^2/2), > 0; warned above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
