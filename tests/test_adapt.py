@@ -1,4 +1,4 @@
-"""The adaptive loop (-adapt, src/adapt.c):
+"""The adaptive loop (-adapt, src/app/adapt.c):
  1. Hertz with options/hertz_adapt.opts: at most 5e4 dofs on the final mesh
     and the pressure error against Hertz at most 1.5e-3 (issue 14's figure),
     at most 3 active-set steps on every adapted mesh after the first, a

@@ -2,7 +2,7 @@
  * rows per pair, and the interface results (pressure, gap, force) after the solve. */
 #ifndef M2D_CONTACT_H
 #define M2D_CONTACT_H
-#include "kkt.h"
+#include "mortar.h"
 #include "mesh.h"
 #include "units.h"
 #include "scene.h"

@@ -8,6 +8,7 @@
 #ifndef M2D_PROBLEM_H
 #define M2D_PROBLEM_H
 #include "frames.h"
+#include "kkt.h"
 #include "msh.h"
 #include "supports.h"
 #include "units.h"

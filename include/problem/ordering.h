@@ -18,8 +18,8 @@
 #ifndef M2D_ORDERING_H
 #define M2D_ORDERING_H
 #include <petscksp.h>
+#include "scene.h" /* M2dOrdering */
 
-typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS, M2D_ORDERING_AUTO } M2dOrdering;
 /* -kkt_ordering auto: MUMPS' own below this many dofs on one rank, METIS from
  * there and on several ranks (M2dOrderingFor). On
  * Hertz and S1 meshes of 1.6e4-2.6e5 dofs (docs/speed.md) MUMPS' AMD ordered,

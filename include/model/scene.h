@@ -3,7 +3,6 @@
 #ifndef M2D_SCENE_H
 #define M2D_SCENE_H
 #include <petscsys.h>
-#include "ordering.h"
 #include "outputpaths.h"
 
 /* The scene's fixed caps (README, -help): bodies, contact pairs, entries of
@@ -62,6 +61,9 @@ typedef enum {
   M2D_KKT_PATH_CONDENSED,
   M2D_KKT_PATH_ITERATIVE
 } M2dKKTPath;
+
+/* -kkt_ordering: the fill-reducing ordering of the MUMPS factorizations (ordering.h) */
+typedef enum { M2D_ORDERING_MUMPS, M2D_ORDERING_METIS, M2D_ORDERING_AUTO } M2dOrdering;
 
 typedef enum {
   M2D_PARTITIONER_METIS,
