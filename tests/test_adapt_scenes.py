@@ -1,4 +1,4 @@
-"""The adaptive loop on scenes nobody tuned it for (SCENES.md S6): Hertz, the
+"""The adaptive loop on scenes nobody tuned it for (docs/adaptivity.md): Hertz, the
 two cylinders of hertz_two and the rounded punch (options/punch.opts), each
 with either body non-mortar. Asserted, on every run:
  1. the same command gives the same meshes and answers (6 runs of Hertz at

@@ -1,4 +1,4 @@
-"""Coulomb friction (issue: friction, SCENES.md S7) against exact answers.
+"""Coulomb friction (docs/friction.md; docs/results.md, S7) against exact answers.
 
 1. The frictional patch test (options/friction_patch.opts: S2's non-matching
    blocks pressed by p and sheared by tau, every face loaded with the traction

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Cattaneo-Mindlin study (options/cattaneo.opts, SCENES.md S7): the errors
+"""Cattaneo-Mindlin study (options/cattaneo.opts, docs/results.md, S7): the errors
 against the half-space formulas and the run's time per mesh level, the time
 of the whole history against its first stage solved in one step, and two
 plots for docs/results.md: the shear traction q(x) per level against

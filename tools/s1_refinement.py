@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""S1 refinement study (SCENES.md, S1): mortar against node-to-segment (NTS).
+"""S1 refinement study (docs/results.md, S1): mortar against node-to-segment (NTS).
 
 Runs the seed report's patch test (options/seed_patch.opts) with both contact
 methods on the meshes seed_patch.msh (1x), seed_patch_2/4/8.msh, plus the 16x
@@ -24,7 +24,7 @@ contains it; since the refined lower meshes are nested in the 160 x 160
 reference, coarse centroids fall on reference vertices, and there the mean of
 the (up to four) reference cells touching the point is used.
 
-All errors are relative to the load p = 1 MPa (SCENES.md: relative errors
+All errors are relative to the load p = 1 MPa (docs/results.md, S1: relative errors
 divide by p). CSV: <out>/s1_refinement.csv. Exit status 1 if a run fails.
 The program (--exe, default M2D_EXE or build/mortar2d) and the meshes
 (M2D_MESHES, default build/meshes) are found and run through tests/m2d.py.
