@@ -16,6 +16,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--top", type=int, default=8)
 ap.add_argument("--max-lines", type=int, default=80)
 ap.add_argument("--rev", help="measure src/*/*.c of this git revision instead of the working tree")
+ap.add_argument("--markdown", metavar="FILE", help="write the figures as a table into FILE between its code_size markers")
 args = ap.parse_args()
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -43,11 +44,27 @@ for name, text in sources():
             start = None
 funcs.sort(reverse=True)
 files.sort(reverse=True)
+over = [f for n, f in funcs if n > args.max_lines]
+if args.markdown:
+    hdr = sum(len(open(h).read().split("\n")) - 1 for h in glob.glob(os.path.join(root, "include", "*", "*.h")))
+    nhdr = len(glob.glob(os.path.join(root, "include", "*", "*.h")))
+    main = [n for n, f in files if f.endswith("app/main.c")]
+    rows = [("C files in `src/`, lines", "%d files, %s lines" % (len(files), format(sum(n for n, f in files), ","))),
+            ("headers in `include/`, lines", "%d files, %s lines" % (nhdr, format(hdr, ","))),
+            ("functions over %d lines" % args.max_lines, "%d%s" % (len(over), (" (" + ", ".join("`%s`" % f for f in over) + ")") if over else "")),
+            ("longest functions", ", ".join("`%s` %d" % (f.split("/")[-1], n) for n, f in funcs[: args.top])),
+            ("longest files", ", ".join("`%s` %d" % (f.split("/")[-1], n) for n, f in files[: args.top])),
+            ("`main.c`", "%d lines" % main[0] if main else "-")]
+    table = "| | now |\n|---|---|\n" + "".join("| %s | %s |\n" % r for r in rows)
+    text = open(args.markdown).read()
+    a, b = "<!-- code_size -->\n", "<!-- /code_size -->"
+    i, j = text.index(a) + len(a), text.index(b)
+    open(args.markdown, "w").write(text[:i] + table + text[j:])
+    raise SystemExit(0)
 print("longest functions (lines):")
 for n, f in funcs[: args.top]:
     print("  %4d  %s" % (n, f))
 print("longest files (lines):")
 for n, f in files[: args.top]:
     print("  %4d  %s" % (n, f))
-over = [f for n, f in funcs if n > args.max_lines]
 print("functions over %d lines: %d%s" % (args.max_lines, len(over), (" (" + ", ".join(over) + ")") if over else ""))

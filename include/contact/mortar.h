@@ -5,7 +5,7 @@
  * carries a Lagrange multiplier (the contact pressure), holding the weighted
  * gap g~_j = sum_dofs B_jd u_d + g~0_j, which must be >= 0.
  *
- * Mortar (seed report section 4, ARCHITECTURE.md): per non-mortar edge e, the
+ * Mortar (seed report section 4, docs/design.md): per non-mortar edge e, the
  * mortar segments are the overlaps of e with the mortar edges, found by
  * projecting the ends of one edge onto the other along the mortar normal n
  * (seed eq. 6). On a segment, with N the linear shape functions,
