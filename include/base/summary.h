@@ -57,5 +57,4 @@ PetscErrorCode M2dSummaryDestroy(M2dSummary *s);
 void           SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v);
 void           SummaryInt(M2dSummary *s, const char *section, const char *key, PetscInt v);
 void           SummaryString(M2dSummary *s, const char *section, const char *key, const char *v);
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s);
 #endif

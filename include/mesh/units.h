@@ -29,8 +29,6 @@ PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u);
 /* The reference energy norm sqrt(S U L) (per unit thickness; computed without
  * overflow). Not collective. */
 PetscReal      M2dUnitsEnergyNorm(const M2dUnits *u);
-/* The identity (every reference 1). Not collective. */
-void M2dUnitsIdentity(M2dUnits *u);
 /* Scale a scene's numbers (moduli, loads, prescribed displacements, contact
  * reach and c, Hertz data, exact pressure) into reference units, in place.
  * Not collective. */

@@ -317,10 +317,3 @@ PetscErrorCode M2dSummaryWrite(MPI_Comm comm, const char *path, const M2dSummary
   PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
   PetscFunctionReturn(0);
 }
-
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s)
-{
-  PetscFunctionBeginUser;
-  PetscCall(M2dSummaryWrite(comm, path, s));
-  PetscFunctionReturn(0);
-}

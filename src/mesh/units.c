@@ -103,11 +103,6 @@ PetscErrorCode M2dUnitsCreate(const M2dMesh *m, const M2dScene *s, M2dUnits *u)
   PetscFunctionReturn(0);
 }
 
-void M2dUnitsIdentity(M2dUnits *u)
-{
-  u->L = u->E = u->S = u->U = 1.0;
-}
-
 void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s)
 {
   for (PetscInt b = 0; b < s->nbody; b++) s->body[b].E /= u->E;
