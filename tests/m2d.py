@@ -54,6 +54,18 @@ def opts(name):
     return os.path.join(SRC, "options", name + ".opts")
 
 
+# the program's M2D_TEST_* environment hooks, compiled in by -DM2D_TEST_HOOKS=ON
+# (tools/test.sh); without them the checks that need one are skipped, saying so
+HOOKS = os.environ.get("M2D_TEST_HOOKS", "1") not in ("0", "", "OFF")
+
+
+def hooks(what):
+    """HOOKS, and a line saying what is skipped without them"""
+    if not HOOKS:
+        print("skip %s: this build has no test hooks (configure with -DM2D_TEST_HOOKS=ON, as tools/test.sh does)" % what)
+    return HOOKS
+
+
 def workdir(name):
     """WORK/name, created."""
     d = os.path.join(WORK, name)

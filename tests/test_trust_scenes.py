@@ -27,7 +27,7 @@ still refuse a wrong answer.
     below: full, no word."""
 import os
 
-from m2d import Tally, mesh, opts, read_h5, read_json, refusal_problems, run, workdir
+from m2d import HOOKS, Tally, hooks, mesh, opts, read_h5, read_json, refusal_problems, run, workdir
 
 T = Tally()
 CYL = ["-bodies", "upper,lower", "-upper_E", "200", "-upper_nu", "0.3", "-lower_E", "70", "-lower_nu", "0.3", "-plane", "strain",
@@ -135,12 +135,13 @@ for what, args, perturb, culprits in (
         ("S2 scaled by 1 + 1e-3", S2, "scale 1e-3", ["equilibrium check: backward error", "-kkt_path full"]),
         ("cantilever by CG to -ksp_rtol 1e-3", BEAM + TRACTION + ["-mesh", mesh("beam_1000x1"), "-ksp_type", "cg", "-pc_type", "jacobi", "-ksp_rtol", "1e-3", "-ksp_max_it", "100000"],
          None, ["equilibrium check", "an iterative solve's answer", "-ksp_rtol"])):
-    for ranks in (1, 2):
+    for ranks in (1, 2) if HOOKS or not perturb else ():
         rc, out, err, s = go("scenes_wrong", args, ranks, env={"M2D_TEST_PERTURB": perturb} if perturb else None)
         line, problems = refusal_problems(rc, err, culprits)
         T.check(not problems, "%s, %d rank(s): refused" % (what, ranks), line)
-rc, out, err, s = go("scenes_right", S2, env={"M2D_TEST_PERTURB": "noise 1e-14"})
-T.check(rc == 0, "S2 + noise 1e-14 |u| (round-off): accepted", " | ".join(err)[:200])
+if hooks("wrong answers made by M2D_TEST_PERTURB"):
+    rc, out, err, s = go("scenes_right", S2, env={"M2D_TEST_PERTURB": "noise 1e-14"})
+    T.check(rc == 0, "S2 + noise 1e-14 |u| (round-off): accepted", " | ".join(err)[:200])
 # ---------------------------------------------------------------- 5. locking
 # one threshold, nu = 0.45 in plane strain (M2D_LOCKING_NU): past it sri by
 # default (before: full, silently, up to 0.4898, then refused even when given)

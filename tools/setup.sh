@@ -24,7 +24,7 @@ if [ -n "$missing" ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null
 fi
 
-cmake_args=(-S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo)
+cmake_args=(-S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DM2D_TEST_HOOKS="${M2D_TEST_HOOKS:-OFF}")
 [ "${M2D_WERROR:-0}" = "1" ] && cmake_args+=(-DM2D_WERROR=ON)
 cmake "${cmake_args[@]}" >/dev/null
 cmake --build build -j"$(nproc)" 2>&1 | grep -E "warning|error|Error" || true

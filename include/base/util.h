@@ -44,8 +44,9 @@ int M2dOutputTarget(const char *path, char *target, size_t tlen, char *msg, size
  * fit (a path is never silently cut).  Not collective. */
 PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
 
-/* Test hook: sleeps M2D_TEST_OUTPUT_DELAY seconds (environment) when that is
- * set, nothing otherwise; called between the steps of writing the output so
+/* Test hook (built only with -DM2D_TEST_HOOKS=ON, tools/test.sh): sleeps
+ * M2D_TEST_OUTPUT_DELAY seconds (environment) when that is set, nothing
+ * otherwise; called between the steps of writing the output so
  * that tests can interrupt a run at a chosen step.  Not collective. */
 void M2dTestDelay(void);
 

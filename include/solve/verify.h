@@ -40,7 +40,8 @@ typedef struct {
 /* Compute the checks of sol on pb and fail (one line, collective) if one is
  * above M2D_VERIFY_TOL. Collective on the problem's communicator. */
 PetscErrorCode M2dVerifyAnswer(const M2dProblem *pb, const M2dSolution *sol, M2dVerification *v);
-/* Test hook (tests/test_trust_scenes.py): with M2D_TEST_PERTURB = "noise E" in
+/* Test hook (tests/test_trust_scenes.py; built only with -DM2D_TEST_HOOKS=ON,
+ * tools/test.sh): with M2D_TEST_PERTURB = "noise E" in
  * the environment, adds E |u|_inf times a fixed pseudo-random number in
  * [-1, 1] to every entry of u; with "scale E", E u (a wrong answer that
  * M2dVerifyAnswer must refuse). Collective; nothing without the variable. */

@@ -190,9 +190,11 @@ PetscErrorCode M2dPathPrintf(char *buf, size_t len, const char *opt, const char 
 
 void M2dTestDelay(void)
 {
+#if defined(M2D_TEST_HOOKS)
   const char *s = getenv("M2D_TEST_OUTPUT_DELAY");
   double      t = s ? atof(s) : 0;
   if (t > 0) usleep((useconds_t)(t * 1e6));
+#endif
 }
 
 double M2dWallTime(void)

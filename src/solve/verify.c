@@ -150,6 +150,9 @@ PetscErrorCode M2dVerifyTestPerturb(Vec u)
   PetscScalar *a;
 
   PetscFunctionBeginUser;
+#if !defined(M2D_TEST_HOOKS)
+  e = NULL;
+#endif
   if (!e || sscanf(e, "%15s %lf", kind, &eps) != 2) PetscFunctionReturn(0);
   PetscCall(VecNorm(u, NORM_INFINITY, &umax));
   PetscCall(VecGetOwnershipRange(u, &lo, &hi));
