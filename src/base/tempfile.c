@@ -516,9 +516,11 @@ PetscErrorCode M2dFilePublish(PetscInt n, M2dFile f[])
   sig = __atomic_exchange_n(&pending_signal, 0, __ATOMIC_SEQ_CST);
   if (sig) Handler(sig);
   if (k < n) {
-    PetscInt bad = k;
+    PetscInt    bad = k;
+    struct stat st;
+    int         gone = e == ENOENT && lstat(f[bad].tmp, &st); /* which one: the temporary, or the directory */
     for (; k < n; k++) M2dFileAbort(&f[k]);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot put output file '%s' in place: %s", f[bad].final, strerror(e));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot put output file '%s' in place: %s%s%s%s", f[bad].final, strerror(e), gone ? " (its temporary is gone: " : "", gone ? f[bad].tmp : "", gone ? ")" : "");
   }
   PetscFunctionReturn(0);
 }
