@@ -48,9 +48,6 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
  * (msh and nmsh ignored on other ranks; not modified; the caller frees them);
  * `what` names the source in error messages (e.g. "remeshed hertz.geo step 2"). */
 PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], PetscInt nmsh, const char *what, M2dMesh *m);
-/* Collective. Reads the mesh module's own options (-mesh_save: save[0] = 0 if
- * not given); MeshCreate calls it, main in -help mode too, to document them. */
-PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len);
 /* Collective. Write *m (coordinates as they are now) to path in PETSc's HDF5
  * format, as -mesh_save does; the adaptive loop saves its final mesh with it. */
 PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);

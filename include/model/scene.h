@@ -108,6 +108,7 @@ typedef struct {
   char           mesh_dir[PETSC_MAX_PATH_LEN];
   char           geo[PETSC_MAX_PATH_LEN]; /* .geo source for remeshing, resolved against geo_dir; "" none */
   char           geo_dir[PETSC_MAX_PATH_LEN];
+  char           mesh_save[PETSC_MAX_PATH_LEN]; /* -mesh_save: the mesh as built, written to this .h5; "" none */
   PetscInt       nbody; /* 0 = every physical surface is a body */
   M2dBody        body[M2D_MAX_BODIES];
   PetscBool      materials_read; /* SceneReadMaterials has run */

@@ -951,7 +951,7 @@ static PetscErrorCode Decide(MPI_Comm comm, const M2dAdaptOptions *ao, StepRecor
  * loop's time (the files included) and every mesh's dofs. Collective. */
 static PetscErrorCode Finish(MPI_Comm comm, const M2dAdaptOptions *ao, const StepRecord *rec, PetscInt nrec, StopReason why, Limit limit, PetscInt kbest, double t_start, M2dStep *best)
 {
-  char   text[256], list[M2D_ADAPT_MAX_STEPS * 12] = "", save[PETSC_MAX_PATH_LEN];
+  char   text[256], list[M2D_ADAPT_MAX_STEPS * 12] = "";
   double seconds;
 
   PetscFunctionBeginUser;
@@ -959,8 +959,7 @@ static PetscErrorCode Finish(MPI_Comm comm, const M2dAdaptOptions *ao, const Ste
   PetscCall(PetscPrintf(comm, "adapt: stopped after %" PetscInt_FMT " mesh%s: %s; the results are those of step %" PetscInt_FMT " (%" PetscInt_FMT " dofs, estimated %s error %.3e)\n", nrec, nrec > 1 ? "es" : "", text, kbest, rec[kbest].dofs, ao->goal == 1 ? "pressure" : "energy", (double)rec[kbest].goal));
   PetscCall(WriteRecords(best->sum, nrec, rec, why, limit, kbest));
   PetscCall(M2dSummaryReal(best->sum, "", "adapt_seconds", M2dWallTime() - t_start));
-  PetscCall(MeshReadOptions(comm, save, sizeof(save)));
-  PetscCall(M2dStepWrite(best, save));
+  PetscCall(M2dStepWrite(best, best->pb.s.mesh_save));
   seconds = M2dWallTime() - t_start;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &seconds, 1, MPI_DOUBLE, MPI_MAX, comm));
   for (PetscInt k = 0; k < nrec; k++) PetscCall(PetscSNPrintf(list + strlen(list), sizeof(list) - strlen(list), "%s%" PetscInt_FMT, k ? ", " : "", rec[k].dofs));

@@ -45,10 +45,6 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
     PetscCall(PetscStrncpy(s->body[0].name, "BODY", sizeof(s->body[0].name)));
   }
   PetscCall(SceneReadMaterials(comm, s));
-  {
-    char save[PETSC_MAX_PATH_LEN];
-    PetscCall(MeshReadOptions(comm, save, sizeof(save)));
-  }
   PetscCall(M2dSolverChoosePath(comm, s, NULL, &path));
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
@@ -64,14 +60,12 @@ static PetscErrorCode CheckOutputPaths(MPI_Comm comm, M2dScene *s)
   const char *const *optfiles;
   PetscInt           n = 0;
   int                nopt = M2dOptionsFilesRead(&optfiles);
-  char               save[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
-  PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the mesh; MeshCreate reads it again */
   for (PetscInt i = 0; i < s->nmesh; i++) in[n++] = (M2dInputFile){"-mesh", s->mesh[i]};
   if (s->geo[0]) in[n++] = (M2dInputFile){"-geo", s->geo};
   for (int i = 0; i < nopt && i < 64; i++) in[n++] = (M2dInputFile){"-options_file", optfiles[i]};
-  PetscCall(OutputCheckPaths(comm, &s->out, save, n, in));
+  PetscCall(OutputCheckPaths(comm, &s->out, s->mesh_save, n, in));
   PetscFunctionReturn(0);
 }
 
@@ -91,10 +85,6 @@ static PetscErrorCode Run(MPI_Comm comm)
   PetscCall(AdaptReadOptions(comm, &s, &ao));
   if (ao.enabled && !eo.target_set) eo.size.target_rel = ao.target; /* the size field aims at the loop's target */
   if (ao.enabled) eo.goal_contact = (PetscBool)(ao.goal == 1);
-  {
-    char save[PETSC_MAX_PATH_LEN];
-    PetscCall(MeshReadOptions(comm, save, sizeof(save))); /* known before the check; MeshCreate reads it again */
-  }
   PetscCall(SceneCheckOptions(comm, &s)); /* typos of the program's options, before any work */
   PetscCall(CheckOutputPaths(comm, &s));
   /* a history's states (friction's slip, the stick and slip sets) would have to pass from one mesh to the next */

@@ -358,18 +358,15 @@ static PetscErrorCode CreateFromFiles(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 
 PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
 {
-  char save[PETSC_MAX_PATH_LEN];
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(m, sizeof(*m)));
   PetscCall(M2dLogRegister());
-  PetscCall(MeshReadOptions(comm, save, sizeof(save)));
   PetscCheck(s->nmesh > 0, comm, PETSC_ERR_USER_INPUT, "option -mesh: no mesh file given (for example -mesh meshes/patch_uniform.msh)");
   for (PetscInt f = 0; f < s->nmesh && s->nmesh > 1; f++) PetscCheck(!MeshIsHDF5(s->mesh[f]), comm, PETSC_ERR_USER_INPUT, "option -mesh: a .h5 mesh holds every body: give it alone (%s, with %" PetscInt_FMT " other file%s)", s->mesh[f], s->nmesh - 1, s->nmesh > 2 ? "s" : "");
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   PetscCall(CreateFromFiles(comm, s, m));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
-  if (save[0]) PetscCall(MeshSave(m, s, save));
+  if (s->mesh_save[0]) PetscCall(MeshSave(m, s, s->mesh_save));
   PetscFunctionReturn(0);
 }
 

@@ -21,17 +21,6 @@
 #define M2D_H5_FORMAT "mortar2d mesh 1"
 #define M2D_BODY_LABEL "m2d:body"
 
-PetscErrorCode MeshReadOptions(MPI_Comm comm, char save[], size_t len)
-{
-  PetscFunctionBeginUser;
-  save[0] = 0;
-  PetscOptionsBegin(comm, NULL, "mortar2d: output (mesh)", NULL);
-  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5; read back by -mesh F.h5); default: none", save, len, NULL));
-  PetscOptionsEnd();
-  PetscCall(M2dOptionsRaise(comm));
-  PetscFunctionReturn(0);
-}
-
 PetscBool MeshIsHDF5(const char *path)
 {
   size_t n = strlen(path);

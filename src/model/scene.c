@@ -385,7 +385,7 @@ static PetscErrorCode ReadComparisons(PetscOptionItems *PetscOptionsObject, M2dS
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-hertz", "compare the contact pressure with Hertz (cylinder on a half-space, plane strain)", s->hertz, &s->hertz));
   PetscCall(M2dOptionsBool(PetscOptionsObject, "-cattaneo", "with -hertz and friction: compare the shear traction with Cattaneo-Mindlin", s->cattaneo, &s->cattaneo));
   PetscCall(ReadHertzPairs(PetscOptionsObject, s));
-  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness, > 0; auto: the -pressure resultant (x2 on a half model) or the contact force", &s->hertz_load, &s->hertz_load_set));
+  PetscCall(M2dOptionsRealAuto(PetscOptionsObject, "-hertz_load", "Hertz load per unit thickness (> 0); auto: -pressure resultant (x2, half model) or contact force", &s->hertz_load, &s->hertz_load_set));
   PetscCall(M2dOptionsReal(PetscOptionsObject, "-strain_limit", "the largest strain an answer may reach (a rotation t counts as t^2/2), > 0; warned above 0.01", s->strain_limit, &s->strain_limit, NULL));
   PetscFunctionReturn(0);
 }
@@ -711,6 +711,9 @@ PetscErrorCode SceneReadOptions(MPI_Comm comm, M2dScene *s)
   PetscOptionsEnd();
   PetscOptionsBegin(comm, NULL, "mortar2d: output", "");
   PetscCall(ReadOutput(PetscOptionsObject, s));
+  PetscOptionsEnd();
+  PetscOptionsBegin(comm, NULL, "mortar2d: output (mesh)", "");
+  PetscCall(M2dOptionsString(PetscOptionsObject, "-mesh_save", "write the mesh as built to this .h5 file (PETSc's HDF5; read back by -mesh F.h5); default: none", s->mesh_save, sizeof(s->mesh_save), NULL));
   PetscOptionsEnd();
   PetscCall(M2dOptionsRaise(comm));
   OutputArmEarly(comm, &s->out); /* a run that fails from here (not at the output paths' own checks) marks the summary an earlier run left */
