@@ -188,15 +188,6 @@ static int SetHandlers(void)
   return 0;
 }
 
-static int EnvInt(const char *const names[], int def)
-{
-  for (int k = 0; names[k]; k++) {
-    const char *v = getenv(names[k]);
-    if (v && *v) return atoi(v);
-  }
-  return def;
-}
-
 int M2dInstallEarlySignalHandlers(void)
 {
   owner       = getpid();
@@ -464,8 +455,7 @@ PetscErrorCode M2dFileClose(M2dFile *f)
 /* tempfile.h; measured: the SIGTERM 1.0007 s after the SIGCONT, so 0.3 s of margin */
 void M2dSignalsAwaitLauncher(void)
 {
-  const char *const vars[] = {"OMPI_MCA_odls_base_sigkill_timeout", NULL};
-  long long         wait   = (long long)EnvInt(vars, 1) * 1000000000LL + 300000000LL;
+  const long long wait = 1300000000LL; /* a launcher's SIGTERM comes 1 s after its SIGCONT (mpiexec's default), plus a margin */
 
   for (;;) { /* again after each wake-up: a SIGCONT may come while waiting */
     long long t[2] = {__atomic_load_n(&cont_ns, __ATOMIC_SEQ_CST), launched_ns}, until = 0, now = MonotonicNs();
