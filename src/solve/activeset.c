@@ -163,7 +163,8 @@ static uint64_t RulesHash(const M2dActiveSet *as)
 }
 
 /* A set that returns to one seen two or more steps ago is a cycle: c is raised
- * tenfold (at most max_cycles times) and the rules recomputed. */
+ * tenfold (at most max_cycles times) and the rules recomputed; on the VI path
+ * the cycles are only counted. */
 static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
 {
   M2dSetHistory *hi = &as->hist;
@@ -183,6 +184,7 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
         hi->failed = PETSC_TRUE;
         break;
       }
+      if (as->vi) break; /* the VI solver's set is its own (lambda > 0) and its Jacobian holds c, built once: a raised c would only make the two disagree */
       PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)(as->c * CUser(as->pb)), (double)(10 * as->c * CUser(as->pb))));
       as->c *= 10;
       PetscCall(Rules(as));
