@@ -378,7 +378,9 @@ fresh_tmp()
 live, dead = start_adapt(), start_adapt()
 if live and dead:
     t0 = time.time()
-    while not gmsh_of(dead.pid) and time.time() - t0 < 60:  # the moment gmsh meshes
+    # the moment gmsh meshes for the second run: its own directory made (a child
+    # named like the program before that is Open MPI's daemon between fork and exec)
+    while not (len(leftovers()) >= 2 and gmsh_of(dead.pid)) and time.time() - t0 < 60:
         time.sleep(0.001)
     os.kill(dead.pid, signal.SIGKILL)
     dead.wait()
