@@ -125,15 +125,12 @@ static PetscErrorCode InterfaceEliminateSeparator(M2dCondensed *cs, const PetscS
  * overrides it for the tests in a build with -DM2D_TEST_HOOKS=ON), or -1 when unknown */
 static double AvailableBytes(void)
 {
-  const char *t = getenv("M2D_TEST_MEMORY_MB");
-  FILE       *f;
-  char        line[256];
-  double      kb = -1;
+  FILE  *f;
+  char   line[256];
+  double kb = -1;
 
 #if defined(M2D_TEST_HOOKS)
-  if (t) return 1048576.0 * atof(t);
-#else
-  (void)t;
+  if (getenv("M2D_TEST_MEMORY_MB")) return 1048576.0 * atof(getenv("M2D_TEST_MEMORY_MB"));
 #endif
   if (!(f = fopen("/proc/meminfo", "r"))) return -1;
   while (fgets(line, sizeof(line), f))
