@@ -667,6 +667,7 @@ def main():
         if not r["problems"]:
             shutil.rmtree(r["dir"], ignore_errors=True)
     nfail = report(results, t0)
+    print("slowest runs: " + ", ".join("[%03d] %.1f s" % (r["i"], r["wall"]) for r in sorted(results, key=lambda r: -r["wall"])[:5]))
     print("%d passed, %d failed" % (len(results) - nfail, nfail))
     return 1 if nfail else 0
 
