@@ -53,8 +53,8 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
  * the user's units. Collective. */
 PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum);
 /* Write the interface CSV and the fields (N.vtu, N.h5 + N.xmf, as the output
- * paths ask) into the run's files o (output.h), not yet in place; the mesh's
- * coordinates are left in the user's units. Collective. */
+ * paths ask; coordinates in the user's units) into the run's files o
+ * (output.h), not yet in place. Collective. */
 PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutput *o);
 /* Add the stage times (logging.h order, then the total) and the names of the
  * run's files, and write the JSON summary as the last of o's files. Collective. */

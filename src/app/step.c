@@ -59,8 +59,8 @@ static PetscErrorCode WriteAll(M2dStep *st, const char *mesh_save, M2dOutput *o,
   double   t0   = M2dWallTime();
 
   PetscFunctionBeginUser;
-  PetscCall(ReportWriteFields(&st->pb, &st->sol, o)); /* leaves the mesh in the user's units */
-  if (mesh_save && mesh_save[0]) PetscCall(MeshSave(&st->pb.mesh, st->pb.user, mesh_save));
+  PetscCall(ReportWriteFields(&st->pb, &st->sol, o));
+  if (mesh_save && mesh_save[0]) PetscCall(MeshSave(&st->pb.mesh, st->pb.user, st->pb.units.L, mesh_save));
   st->t[M2D_STAGE_OUTPUT] += M2dWallTime() - t0;
   st->t[M2D_STAGE_COUNT] += M2dWallTime() - t0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, st->t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));
