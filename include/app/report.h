@@ -36,7 +36,7 @@ typedef struct {
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
   M2dErrorEstimate size_est;        /* the sums the size field was made from (est, or the goal's) */
-  PetscReal        pressure_ripple; /* contact: ContactRipple (contact.h), else -1 */
+  PetscReal        pressure_ripple; /* contact: ContactRipple (contact_report.h), else -1 */
   PetscInt         ripple_nodes;    /* the interior active nodes it was measured on */
   PetscInt         active_nodes;    /* contact: the active non-mortar nodes */
   PetscReal        pressure_local;    /* contact: ContactPressureEstimate, the pressure's own error */

@@ -1,6 +1,7 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
 #include "about.h"
+#include "contact_report.h"
 #include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
