@@ -19,15 +19,11 @@ static PetscInt        DirDof(int k)
 /* the KKT system of the grid with the Dirichlet dofs above (owned ones listed by their rank) */
 static PetscErrorCode CreateKKT(MPI_Comm comm, M2dContactRows *R, M2dKKT *kkt)
 {
-  M2dScene s;
   Mat      K;
   Vec      f, ubc;
   PetscInt drows[3], nd = 0, lo, hi;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(&s, sizeof(s)));
-  s.kkt_mat    = M2D_KKT_AIJ;
-  s.unilateral = PETSC_TRUE;
   PetscCall(BuildK(comm, &K));
   PetscCall(MatCreateVecs(K, &ubc, &f));
   PetscCall(VecSet(f, 1.0));
@@ -39,7 +35,7 @@ static PetscErrorCode CreateKKT(MPI_Comm comm, M2dContactRows *R, M2dKKT *kkt)
     }
   PetscCall(VecAssemblyBegin(ubc));
   PetscCall(VecAssemblyEnd(ubc));
-  PetscCall(KKTCreate(&s, PETSC_FALSE, R, NULL, K, f, ubc, nd, drows, kkt));
+  PetscCall(KKTCreate(M2D_KKT_AIJ, 0, PETSC_FALSE, R, NULL, K, f, ubc, nd, drows, kkt));
   PetscCall(MatDestroy(&K));
   PetscCall(VecDestroy(&f));
   PetscCall(VecDestroy(&ubc));

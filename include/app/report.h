@@ -36,7 +36,7 @@ typedef struct {
   PetscReal        effectivity;     /* -exact: estimate / true error */
   PetscReal        expected_cells;  /* the size field's cell count for the target (estimator.h) */
   M2dErrorEstimate size_est;        /* the sums the size field was made from (est, or the goal's) */
-  PetscReal        pressure_ripple; /* contact: ContactRipple (contact.h), else -1 */
+  PetscReal        pressure_ripple; /* contact: ContactRipple (contact_report.h), else -1 */
   PetscInt         ripple_nodes;    /* the interior active nodes it was measured on */
   PetscInt         active_nodes;    /* contact: the active non-mortar nodes */
   PetscReal        pressure_local;    /* contact: ContactPressureEstimate, the pressure's own error */
@@ -53,8 +53,8 @@ PetscErrorCode ReportEstimatorOptions(MPI_Comm comm, M2dEstimatorOptions *o);
  * the user's units. Collective. */
 PetscErrorCode ReportCompute(M2dProblem *pb, M2dSolution *sol, const M2dVerification *v, const M2dEstimatorOptions *eo, M2dFigures *fig, M2dSummary *sum);
 /* Write the interface CSV and the fields (N.vtu, N.h5 + N.xmf, as the output
- * paths ask) into the run's files o (output.h), not yet in place; the mesh's
- * coordinates are left in the user's units. Collective. */
+ * paths ask; coordinates in the user's units) into the run's files o
+ * (output.h), not yet in place. Collective. */
 PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutput *o);
 /* Add the stage times (logging.h order, then the total) and the names of the
  * run's files, and write the JSON summary as the last of o's files. Collective. */

@@ -73,11 +73,11 @@ typedef struct {
 } M2dSeries;
 
 /* Write N.vtu and N.h5 + N.xmf (as paths->vtu, paths->h5 say) under their
- * temporary names: the fields fs of the final state; with a series (NULL:
- * none) the .h5 also holds each earlier state in /steps/K/ and the .xmf is a
- * temporal collection, its last time the final state (time_final). Collective;
- * errors raised on every rank. */
-PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *series, PetscReal time_final);
+ * temporary names: m's coordinates times L (the user's length unit), the
+ * fields fs of the final state; with a series (NULL: none) the .h5 also holds
+ * each earlier state in /steps/K/ and the .xmf is a temporal collection, its
+ * last time the final state (time_final). Collective; errors on every rank. */
+PetscErrorCode OutputWriteFields(const M2dMesh *m, PetscReal L, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *series, PetscReal time_final);
 /* Close the files and rename them into place, in the order they were added.
  * Collective; errors raised on every rank, the temporaries then removed. */
 PetscErrorCode OutputCommit(M2dOutput *o);

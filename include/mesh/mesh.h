@@ -48,9 +48,9 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m);
  * (msh and nmsh ignored on other ranks; not modified; the caller frees them);
  * `what` names the source in error messages (e.g. "remeshed hertz.geo step 2"). */
 PetscErrorCode MeshCreateFromMsh(MPI_Comm comm, M2dScene *s, MshMesh msh[], PetscInt nmsh, const char *what, M2dMesh *m);
-/* Collective. Write *m (coordinates as they are now) to path in PETSc's HDF5
+/* Collective. Write *m (its coordinates times L) to path in PETSc's HDF5
  * format, as -mesh_save does; the adaptive loop saves its final mesh with it. */
-PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path);
+PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, PetscReal L, const char *path);
 /* Not collective. Frees what MeshCreate* allocated in *m (not m itself). */
 PetscErrorCode MeshDestroy(M2dMesh *m);
 /* Not collective. Dimension of a physical group, -1 if the mesh has none of that name. */

@@ -33,7 +33,7 @@ PetscReal      M2dUnitsEnergyNorm(const M2dUnits *u);
  * reach and c, Hertz data, exact pressure) into reference units, in place.
  * Not collective. */
 void M2dUnitsScaleScene(const M2dUnits *u, M2dScene *s);
-/* Multiply the mesh coordinates by `factor` (1/L into reference units, L
- * back). Collective on the mesh's communicator. */
+/* Multiply the mesh coordinates by `factor` (1/L: into reference units, for
+ * good; the writers take L). Collective on the mesh's communicator. */
 PetscErrorCode M2dUnitsScaleMesh(M2dMesh *m, PetscReal factor);
 #endif

@@ -49,12 +49,13 @@ typedef struct {
 } M2dKKT;
 
 /* The KKT blocks of rows R on K, f (supports eliminated; ubc holds the
- * prescribed values, drows this rank's Dirichlet rows); partner (R->n
- * entries, or NULL without friction): a tangential row's normal row, -1 for
- * a normal row; with `condensed` the monolithic matrix is not built
- * (condensed.h reads the blocks). K and f are referenced, not copied.
- * Collective. */
-PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
+ * prescribed values, drows this rank's Dirichlet rows), A as mat (-kkt_mat),
+ * the (u,u) block augmented by weight augment (-kkt_augment; 0: none);
+ * partner (R->n entries, or NULL without friction): a tangential row's
+ * normal row, -1 for a normal row; with `condensed` the monolithic matrix is
+ * not built (condensed.h reads the blocks). K and f are referenced, not
+ * copied. Collective. */
+PetscErrorCode KKTCreate(M2dKKTMat mat, PetscReal augment, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt);
 /* A load step: f (referenced: the caller has changed it) and the support
  * values ubc of the step, and uprev, the displacement the step starts from
  * (layout of f; NULL: 0). The rows' right-hand side becomes

@@ -22,6 +22,13 @@ typedef enum {
   M2D_PATH_ITERATIVE  /* active set, multipliers eliminated, CG + AMG in u (iterative.h) */
 } M2dSolverPath;
 
+/* the solver's choice (solver.h): the path and the KKT matrix it builds (the scene keeps the user's options) */
+typedef struct {
+  M2dSolverPath path;
+  M2dKKTMat     kkt_mat;     /* -kkt_mat; nest on -kkt_path iterative (the blocks suffice) */
+  PetscReal     kkt_augment; /* -kkt_augment; 1 for 0 on the condensed path (it factors K + g C^T C) */
+} M2dSolverChoice;
+
 typedef struct {
   const M2dScene *user;  /* the scene in the user's units (borrowed) */
   M2dScene        s;     /* the same in reference units */
@@ -51,9 +58,9 @@ typedef struct {
  * applied. `user` is borrowed and must outlive pb; its body list is completed
  * from the mesh. Collective on comm. */
 PetscErrorCode ProblemCreate(MPI_Comm comm, M2dScene *user, MshMesh *msh, const char *what, M2dProblem *pb);
-/* Contact and assembly stages for solver path `path` (which decides how the
+/* Contact and assembly stages for the solver's choice (which decides how the
  * KKT blocks are built). Collective. */
-PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly);
+PetscErrorCode ProblemSetUp(M2dProblem *pb, const M2dSolverChoice *choice, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly);
 /* What path means for the options, as "on the condensed path (...)": the
  * reason an option has no effect (optcheck.h). Not collective. */
 const char    *ProblemPathSays(const M2dScene *s, M2dSolverPath path);

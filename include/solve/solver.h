@@ -39,18 +39,18 @@ typedef struct {
   M2dLoadStep     *steps;   /* with more than one: each one's answer, or NULL */
 } M2dSolution;
 
-/* The path for scene s on mesh m (NULL: not read yet); sets s->kkt_augment
- * where the path needs it and says so when it overrides -kkt_path: without
+/* The path for scene s on mesh m (NULL: not read yet) and the KKT matrix it
+ * needs, into *c (s is not changed); says so when it overrides -kkt_path: without
  * -kkt_path the condensed path gives way to the full one past
  * -kkt_condensed_max non-mortar edges (its dense interface costs O(N^3) per
  * step; the default 8,000 is the crossing the N^3 scaling of README S5's
  * measurements puts it at). Collective on comm (prints on rank 0). */
-PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path);
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, M2dSolverChoice *c);
 /* The one-line name of a path (summary key kkt_path). Not collective. */
 const char    *M2dSolverPathName(M2dSolverPath path);
-/* Solve pb on path; sol's vectors are created here and freed by
+/* Solve pb as chosen (c); sol's vectors are created here and freed by
  * M2dSolutionDestroy. Collective on the problem's communicator. */
-PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *sol);
+PetscErrorCode M2dSolverSolve(M2dProblem *pb, const M2dSolverChoice *c, M2dSolution *sol);
 PetscErrorCode M2dSolutionDestroy(M2dSolution *sol);
 /* -help: read the linear solvers' options so that they are listed. Collective. */
 PetscErrorCode M2dSolverDocumentOptions(MPI_Comm comm, const M2dScene *s);

@@ -110,15 +110,12 @@ static PetscErrorCode DualSolveCondensed(M2dCondensed *cs, const M2dSolution *so
 static PetscErrorCode DualSolveKKT(M2dProblem *pb, const M2dSolution *sol, Vec b, Vec z)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)z);
-  M2dScene s    = pb->s;
   M2dKKT   dk;
   KSP      ksp;
   PC       pc;
 
   PetscFunctionBeginUser;
-  s.kkt_mat     = M2D_KKT_AIJ;
-  s.kkt_augment = 0;
-  PetscCall(KKTCreate(&s, PETSC_FALSE, &pb->Rkkt, NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &dk));
+  PetscCall(KKTCreate(M2D_KKT_AIJ, 0, PETSC_FALSE, &pb->Rkkt, NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &dk));
   PetscCall(KKTSetActive(&dk, sol->active, NULL, 1.0, 1.0)); /* the final set: active rows C_j, the others mu_j = 0 */
   PetscCall(VecZeroEntries(dk.b));
   PetscCall(VecISCopy(dk.b, dk.isl, SCATTER_FORWARD, b));

@@ -35,7 +35,7 @@ static const char help[] = "mortar2d: 2D contact of linear elastic bodies, frict
  * (helpprint.h), then stop */
 static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
 {
-  M2dSolverPath       path;
+  M2dSolverChoice     choice;
   M2dEstimatorOptions eo;
   M2dAdaptOptions     ao;
 
@@ -45,7 +45,7 @@ static PetscErrorCode DocumentOptions(MPI_Comm comm, M2dScene *s)
     PetscCall(PetscStrncpy(s->body[0].name, "BODY", sizeof(s->body[0].name)));
   }
   PetscCall(SceneReadMaterials(comm, s));
-  PetscCall(M2dSolverChoosePath(comm, s, NULL, &path));
+  PetscCall(M2dSolverChoosePath(comm, s, NULL, &choice));
   PetscCall(M2dSolverDocumentOptions(comm, s));
   PetscCall(ReportEstimatorOptions(comm, &eo));
   PetscCall(AdaptReadOptions(comm, s, &ao));

@@ -1,6 +1,7 @@
 /* report.c - results, comparisons with exact answers, files (see report.h). */
 #include "report.h"
 #include "about.h"
+#include "contact_report.h"
 #include "optcheck.h"
 #include "dual.h"
 #include "elasticity.h"
@@ -703,13 +704,12 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
   PetscCall(VecDuplicate(sol->u, &u));
   PetscCall(VecAXPY(u, pb->units.U, sol->u));
   PetscCall(PetscCalloc3(ns + 1, &sf, ns + 1, &steps, ns + 1, &times));
-  for (PetscInt k = 0; k < ns; k++) { /* before the mesh is scaled: the stresses of the reference units */
+  for (PetscInt k = 0; k < ns; k++) {
     PetscCall(StepFieldsCreate(pb, &sol->steps[k], friction, &sf[k]));
     steps[k] = sf[k].fs;
     times[k] = sol->steps[k].time;
   }
   se.n = ns, se.time = times, se.step = steps;
-  PetscCall(M2dUnitsScaleMesh(&pb->mesh, pb->units.L)); /* the files hold the user's coordinates */
   PetscCall(PetscMemzero(&fs, sizeof(fs)));
   for (PetscInt b = 0; b < pb->s.nbody; b++) names[b] = pb->s.body[b].name;
   fs.nbody = pb->s.nbody, fs.body_names = names;
@@ -721,7 +721,7 @@ PetscErrorCode ReportWriteFields(M2dProblem *pb, const M2dSolution *sol, M2dOutp
     const char *ename[M2D_ETA_WRITTEN] = {"error_indicator", "error_indicator_volume", "size_factor"};
     for (int k = 0; k < M2D_ETA_WRITTEN; k++) fs.cell[fs.ncell++] = (M2dCellField){ename[k], sol->eta, M2D_ETA_FIELDS, k};
   }
-  PetscCall(OutputWriteFields(&pb->mesh, o, &fs, ns ? &se : NULL, sol->nstep > 1 ? sol->steps[sol->nstep - 1].time : -1));
+  PetscCall(OutputWriteFields(&pb->mesh, pb->units.L, o, &fs, ns ? &se : NULL, sol->nstep > 1 ? sol->steps[sol->nstep - 1].time : -1)); /* the user's coordinates */
   for (PetscInt k = 0; k < ns; k++) PetscCall(StepFieldsDestroy(&sf[k]));
   PetscCall(PetscFree3(sf, steps, times));
   for (int k = 0; k < 4; k++) PetscCall(VecDestroy(&v[k]));

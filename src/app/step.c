@@ -5,8 +5,8 @@
 
 PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src, const M2dContactState *warm, const M2dEstimatorOptions *eo, M2dStep *st)
 {
-  M2dSolverPath path;
-  double        t0 = M2dWallTime(), *t = st->t;
+  M2dSolverChoice choice;
+  double          t0 = M2dWallTime(), *t = st->t;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(st, sizeof(*st)));
@@ -16,8 +16,8 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   t[M2D_STAGE_MESH] = M2dWallTime() - t[M2D_STAGE_MESH];
   PetscCall(PetscLogStagePop());
 
-  PetscCall(M2dSolverChoosePath(comm, &st->pb.s, &st->pb.mesh, &path));
-  PetscCall(ProblemSetUp(&st->pb, path, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
+  PetscCall(M2dSolverChoosePath(comm, &st->pb.s, &st->pb.mesh, &choice));
+  PetscCall(ProblemSetUp(&st->pb, &choice, M2dStage[M2D_STAGE_CONTACT], M2dStage[M2D_STAGE_ASSEMBLY], &t[M2D_STAGE_CONTACT], &t[M2D_STAGE_ASSEMBLY]));
   if (warm && st->pb.has_contact) {
     PetscCall(PetscMalloc1(st->pb.contact.R.n + 1, &st->pb.warm));
     PetscCall(ContactStateMask(warm, &st->pb.contact, &st->pb.units, st->pb.s.contact_c_set ? st->pb.s.contact_c : ActiveSetDefaultC(&st->pb.s, &st->pb.contact), st->pb.warm));
@@ -26,7 +26,7 @@ PetscErrorCode M2dStepSolve(MPI_Comm comm, M2dScene *s, const M2dMeshSource *src
   st->pb.keep_factor = (PetscBool)(eo && eo->enabled && eo->goal_contact); /* the dual problem reuses it (dual.h) */
   PetscCall(PetscLogStagePush(M2dStage[M2D_STAGE_SOLVE]));
   t[M2D_STAGE_SOLVE] = M2dWallTime();
-  PetscCall(M2dSolverSolve(&st->pb, path, &st->sol));
+  PetscCall(M2dSolverSolve(&st->pb, &choice, &st->sol));
   PetscCall(M2dVerifyTestPerturb(st->sol.u));
   PetscCall(M2dVerifyAnswer(&st->pb, &st->sol, &st->v));
   if (st->pb.has_contact) PetscCall(ContactResults(&st->pb.contact, st->pb.kkt.C, st->pb.kkt.r, st->sol.u, st->sol.lam, st->sol.active, st->sol.slip));
@@ -59,8 +59,8 @@ static PetscErrorCode WriteAll(M2dStep *st, const char *mesh_save, M2dOutput *o,
   double   t0   = M2dWallTime();
 
   PetscFunctionBeginUser;
-  PetscCall(ReportWriteFields(&st->pb, &st->sol, o)); /* leaves the mesh in the user's units */
-  if (mesh_save && mesh_save[0]) PetscCall(MeshSave(&st->pb.mesh, st->pb.user, mesh_save));
+  PetscCall(ReportWriteFields(&st->pb, &st->sol, o));
+  if (mesh_save && mesh_save[0]) PetscCall(MeshSave(&st->pb.mesh, st->pb.user, st->pb.units.L, mesh_save));
   st->t[M2D_STAGE_OUTPUT] += M2dWallTime() - t0;
   st->t[M2D_STAGE_COUNT] += M2dWallTime() - t0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, st->t, M2D_STAGE_COUNT + 1, MPI_DOUBLE, MPI_MAX, comm));

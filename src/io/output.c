@@ -37,10 +37,10 @@ static PetscErrorCode CopyOut(Vec seq, PetscInt nv, PetscBool vector, PetscInt c
   PetscFunctionReturn(0);
 }
 
-/* vertex coordinates and the point fields, through the dof layout (2 values per
- * vertex) and one scatter to rank 0 each: the coordinates, each vector, and
- * each pair of fields from one array of values per local vertex */
-static PetscErrorCode GatherPoints(const M2dMesh *m, const M2dFieldSet *fs, Gathered *g, PetscMPIInt rank)
+/* vertex coordinates (times L) and the point fields, through the dof layout (2
+ * values per vertex) and one scatter to rank 0 each: the coordinates, each
+ * vector, and each pair of fields from one array of values per local vertex */
+static PetscErrorCode GatherPoints(const M2dMesh *m, PetscReal L, const M2dFieldSet *fs, Gathered *g, PetscMPIInt rank)
 {
   M2dMeshArrays ar;
   Vec           xl, xg, seq, held = NULL; /* held: the vector seq holds */
@@ -58,8 +58,8 @@ static PetscErrorCode GatherPoints(const M2dMesh *m, const M2dFieldSet *fs, Gath
   for (PetscInt v = 0; v < nv; v++) {
     PetscInt coff;
     PetscCall(PetscSectionGetOffset(ar.cs, m->vStart + v, &coff));
-    xa[off[v]]     = ar.ca[coff];
-    xa[off[v] + 1] = ar.ca[coff + 1];
+    xa[off[v]]     = ar.ca[coff] * L;
+    xa[off[v] + 1] = ar.ca[coff + 1] * L;
   }
   PetscCall(VecRestoreArray(xl, &xa));
   PetscCall(MeshArraysClose(&ar));
@@ -148,7 +148,7 @@ static PetscErrorCode GatherCells(const M2dMesh *m, const M2dFieldSet *fs, Gathe
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Gather(const M2dMesh *m, const M2dFieldSet *fs, Gathered *g)
+static PetscErrorCode Gather(const M2dMesh *m, PetscReal L, const M2dFieldSet *fs, Gathered *g)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt rank, size;
@@ -159,7 +159,7 @@ static PetscErrorCode Gather(const M2dMesh *m, const M2dFieldSet *fs, Gathered *
   PetscCall(PetscMemzero(g, sizeof(*g)));
   g->nv = m->nvert_global;
   g->nc = m->ncell_global;
-  PetscCall(GatherPoints(m, fs, g, rank));
+  PetscCall(GatherPoints(m, L, fs, g, rank));
   PetscCall(GatherCells(m, fs, g, rank, size));
   PetscFunctionReturn(0);
 }
@@ -503,7 +503,7 @@ static PetscErrorCode WriteFiles(M2dOutput *o, const Gathered *g, const M2dField
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *se, PetscReal time_final)
+PetscErrorCode OutputWriteFields(const M2dMesh *m, PetscReal L, M2dOutput *o, const M2dFieldSet *fs, const M2dSeries *se, PetscReal time_final)
 {
   Gathered       g, *gs = NULL;
   char           err[1024] = "";
@@ -512,9 +512,9 @@ PetscErrorCode OutputWriteFields(const M2dMesh *m, M2dOutput *o, const M2dFieldS
 
   PetscFunctionBeginUser;
   if (!o->paths->vtu && !o->paths->h5) PetscFunctionReturn(0);
-  PetscCall(Gather(m, fs, &g));
+  PetscCall(Gather(m, L, fs, &g));
   PetscCall(PetscCalloc1(ns + 1, &gs));
-  for (PetscInt k = 0; k < ns; k++) PetscCall(Gather(m, &se->step[k], &gs[k]));
+  for (PetscInt k = 0; k < ns; k++) PetscCall(Gather(m, L, &se->step[k], &gs[k]));
   if (o->rank == 0) { /* errors here are local to rank 0: catch them and raise them everywhere */
     ierr = WriteFiles(o, &g, fs, ns ? se : NULL, gs, time_final);
     if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));

@@ -366,7 +366,7 @@ PetscErrorCode MeshCreate(MPI_Comm comm, M2dScene *s, M2dMesh *m)
   PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
   PetscCall(CreateFromFiles(comm, s, m));
   PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_MESH_CREATE], 0, 0, 0, 0));
-  if (s->mesh_save[0]) PetscCall(MeshSave(m, s, s->mesh_save));
+  if (s->mesh_save[0]) PetscCall(MeshSave(m, s, 1.0, s->mesh_save));
   PetscFunctionReturn(0);
 }
 

@@ -52,13 +52,15 @@ static PetscErrorCode WriteNames(PetscViewer v, const M2dMesh *m, const M2dScene
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
+PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, PetscReal L, const char *path)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)m->dm);
   PetscMPIInt rank;
   char        tmp[PETSC_MAX_PATH_LEN + 32], target[PETSC_MAX_PATH_LEN], err[M2D_ERR_LEN] = "";
   DMLabel     body;
   PetscViewer v;
+  DM          dm;
+  Vec         xm, x;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -73,17 +75,23 @@ PetscErrorCode MeshSave(const M2dMesh *m, const M2dScene *s, const char *path)
   }
   PetscCall(M2dCheckCollective(comm, err[0] ? PETSC_TRUE : PETSC_FALSE, err));
   PetscCallMPI(MPI_Bcast(tmp, (PetscMPIInt)sizeof(tmp), MPI_CHAR, 0, comm));
-  PetscCall(DMCreateLabel(m->dm, M2D_BODY_LABEL));
-  PetscCall(DMGetLabel(m->dm, M2D_BODY_LABEL, &body));
+  PetscCall(DMClone(m->dm, &dm)); /* the plex and its labels, coordinates of its own: m's times L */
+  PetscCall(DMGetCoordinates(m->dm, &xm));
+  PetscCall(VecDuplicate(xm, &x));
+  PetscCall(VecCopy(xm, x));
+  PetscCall(VecScale(x, L));
+  PetscCall(DMSetCoordinates(dm, x));
+  PetscCall(VecDestroy(&x));
+  PetscCall(DMCreateLabel(dm, M2D_BODY_LABEL));
+  PetscCall(DMGetLabel(dm, M2D_BODY_LABEL, &body));
   for (PetscInt c = m->cStart; c < m->cEnd; c++) PetscCall(DMLabelSetValue(body, c, m->cellbody[c - m->cStart]));
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerPushFormat(v, PETSC_VIEWER_HDF5_PETSC));
-  PetscCall(DMView(m->dm, v));
+  PetscCall(DMView(dm, v));
   PetscCall(PetscViewerPopFormat(v));
   PetscCall(WriteNames(v, m, s));
   PetscCall(PetscViewerDestroy(&v));
-  PetscCall(DMRemoveLabel(m->dm, M2D_BODY_LABEL, &body));
-  PetscCall(DMLabelDestroy(&body));
+  PetscCall(DMDestroy(&dm));
   if (rank == 0 && rename(tmp, target)) { /* through a link: onto its target */
     PetscCall(PetscSNPrintf(err, sizeof(err), "option -mesh_save: cannot write '%s': %s", path, strerror(errno)));
     remove(tmp);

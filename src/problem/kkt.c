@@ -124,7 +124,7 @@ static PetscErrorCode AugmentedBlock(PetscReal w, M2dKKT *kkt)
 
 /* the nest of the four blocks (an explicit zero (lambda, lambda) block keeps
  * the structure symmetric for MUMPS), the operator A, the splits and b, x */
-static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, M2dKKT *kkt)
+static PetscErrorCode Operator(PetscBool condensed, M2dKKT *kkt)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)kkt->K);
   PetscInt lo, hi, nl, Nl, nu, N;
@@ -146,7 +146,7 @@ static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, M2dKKT *k
   blocks[0] = kkt->Kblk, blocks[1] = kkt->Ct, blocks[2] = kkt->CA, blocks[3] = kkt->Z;
   PetscCall(MatCreateNest(comm, 2, NULL, 2, NULL, blocks, &kkt->nest));
   if (condensed) kkt->A = NULL; /* condensed.c reads the blocks */
-  else if (s->kkt_mat == M2D_KKT_AIJ) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
+  else if (kkt->aij) PetscCall(MatConvert(kkt->nest, MATAIJ, MAT_INITIAL_MATRIX, &kkt->A));
   else {
     PetscCall(PetscObjectReference((PetscObject)kkt->nest));
     kkt->A = kkt->nest;
@@ -163,19 +163,19 @@ static PetscErrorCode Operator(const M2dScene *s, PetscBool condensed, M2dKKT *k
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode KKTCreate(const M2dScene *s, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
+PetscErrorCode KKTCreate(M2dKKTMat mat, PetscReal augment, PetscBool condensed, const M2dContactRows *R, const PetscInt partner[], Mat K, Vec f, Vec ubc, PetscInt ndir, const PetscInt drows[], M2dKKT *kkt)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(kkt, sizeof(*kkt)));
   kkt->nlam = R->n;
   kkt->K    = K;
   kkt->f    = f;
-  kkt->aij  = (PetscBool)(s->kkt_mat == M2D_KKT_AIJ);
+  kkt->aij  = (PetscBool)(mat == M2D_KKT_AIJ);
   PetscCall(PetscObjectReference((PetscObject)K));
   PetscCall(PetscObjectReference((PetscObject)f));
   PetscCall(ConstraintRows(R, partner, K, ndir, drows, kkt));
-  PetscCall(AugmentedBlock(s->kkt_augment, kkt));
-  PetscCall(Operator(s, condensed, kkt));
+  PetscCall(AugmentedBlock(augment, kkt));
+  PetscCall(Operator(condensed, kkt));
   PetscCall(KKTSetLoad(kkt, ubc, NULL));
   PetscFunctionReturn(0);
 }

@@ -243,7 +243,7 @@ static PetscErrorCode Assemble(M2dProblem *pb)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly)
+PetscErrorCode ProblemSetUp(M2dProblem *pb, const M2dSolverChoice *choice, PetscLogStage contact_stage, PetscLogStage assembly_stage, double *t_contact, double *t_assembly)
 {
   PetscFunctionBeginUser;
   pb->has_contact = (PetscBool)(pb->s.npair > 0);
@@ -264,7 +264,7 @@ PetscErrorCode ProblemSetUp(M2dProblem *pb, M2dSolverPath path, PetscLogStage co
   if (pb->has_contact) {
     PetscCall(PetscLogEventBegin(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
     PetscCall(M2dFramesRotateRows(&pb->frames, &pb->mesh, &pb->contact.R, &pb->Rkkt));
-    PetscCall(KKTCreate(&pb->s, path == M2D_PATH_CONDENSED, &pb->Rkkt, pb->contact.nnormal < pb->contact.R.n ? pb->contact.partner : NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
+    PetscCall(KKTCreate(choice->kkt_mat, choice->kkt_augment, choice->path == M2D_PATH_CONDENSED, &pb->Rkkt, pb->contact.nnormal < pb->contact.R.n ? pb->contact.partner : NULL, pb->K, pb->f, pb->ubc, pb->ndir, pb->drows, &pb->kkt));
     PetscCall(PetscLogEventEnd(M2dEvent[M2D_EV_KKT], 0, 0, 0, 0));
   }
   *t_assembly = M2dWallTime() - *t_assembly;

@@ -8,7 +8,7 @@
 #include <string.h>
 
 /* -kkt_path iterative: what the elimination of the multipliers needs (iterative.h) */
-static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
+static PetscErrorCode CheckIterative(MPI_Comm comm, const M2dScene *s, PetscBool vi, M2dSolverChoice *c)
 {
   PetscFunctionBeginUser;
   if (!s->npair) PetscFunctionReturn(0);
@@ -18,18 +18,18 @@ static PetscErrorCode CheckIterative(MPI_Comm comm, M2dScene *s, PetscBool vi)
   }
   PetscCheck(s->kkt_augment == 0, comm, PETSC_ERR_USER_INPUT, "option -kkt_augment: not used by -kkt_path iterative (the multipliers are eliminated; leave it 0)");
   PetscCheck(!vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: -kkt_path iterative takes the primal-dual active set (newtonls)");
-  s->kkt_mat = M2D_KKT_NEST; /* the blocks are enough: no monolithic copy */
+  c->kkt_mat = M2D_KKT_NEST; /* the blocks are enough: no monolithic copy */
   PetscFunctionReturn(0);
 }
 
 /* the default condensed path, or the full one for a long contact surface */
-static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
+static PetscErrorCode CondensedOrFull(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, M2dSolverChoice *c)
 {
   PetscInt  n = 0;
   PetscBool given;
 
   PetscFunctionBeginUser;
-  *path = M2D_PATH_CONDENSED;
+  c->path = M2D_PATH_CONDENSED;
   PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &given));
   for (PetscInt k = 0; m && !given && k < s->npair; k++) { /* every pair's non-mortar edges */
     PetscInt nk;
@@ -37,9 +37,9 @@ static PetscErrorCode CondensedOrFull(MPI_Comm comm, M2dScene *s, const M2dMesh 
     n += nk;
   }
   if (n > s->kkt_condensed_max) {
-    *path = M2D_PATH_FULL;
+    c->path = M2D_PATH_FULL;
     PetscCall(PetscPrintf(comm, "active set: -kkt_path full (%" PetscInt_FMT " non-mortar edges, more than -kkt_condensed_max %" PetscInt_FMT ": the condensed path's dense interface would cost O(N^3) a step)\n", n, s->kkt_condensed_max));
-  } else if (s->kkt_augment == 0) s->kkt_augment = 1.0; /* the condensed path factors K + g C^T C */
+  } else if (s->kkt_augment == 0) c->kkt_augment = 1.0; /* the condensed path factors K + g C^T C */
   PetscFunctionReturn(0);
 }
 
@@ -63,7 +63,7 @@ static PetscErrorCode CheckEffect(MPI_Comm comm, const M2dScene *s, M2dSolverPat
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m, M2dSolverPath *path)
+PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, const M2dScene *s, const M2dMesh *m, M2dSolverChoice *c)
 {
   char      st[64];
   PetscBool set, vi, auto_path = PETSC_FALSE;
@@ -71,22 +71,23 @@ PetscErrorCode M2dSolverChoosePath(MPI_Comm comm, M2dScene *s, const M2dMesh *m,
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", st, sizeof(st), &set));
   vi = (PetscBool)(set && !strcmp(st, SNESVINEWTONRSLS));
-  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(CheckIterative(comm, s, vi));
-  if (!s->npair) *path = M2D_PATH_LINEAR;
-  else if (!s->unilateral) *path = M2D_PATH_TIED;
-  else if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) *path = M2D_PATH_ITERATIVE;
-  else if (s->kkt_path == M2D_KKT_PATH_FULL) *path = M2D_PATH_FULL;
+  *c = (M2dSolverChoice){.kkt_mat = s->kkt_mat, .kkt_augment = s->kkt_augment};
+  if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) PetscCall(CheckIterative(comm, s, vi, c));
+  if (!s->npair) c->path = M2D_PATH_LINEAR;
+  else if (!s->unilateral) c->path = M2D_PATH_TIED;
+  else if (s->kkt_path == M2D_KKT_PATH_ITERATIVE) c->path = M2D_PATH_ITERATIVE;
+  else if (s->kkt_path == M2D_KKT_PATH_FULL) c->path = M2D_PATH_FULL;
   else {
     if (s->kkt_mat == M2D_KKT_NEST || vi) {
-      *path = M2D_PATH_FULL;
+      c->path = M2D_PATH_FULL;
       PetscCall(PetscPrintf(comm, "active set: -kkt_path full (the condensed path needs -kkt_mat aij and newtonls)\n"));
     } else {
       PetscCall(PetscOptionsHasName(NULL, NULL, "-kkt_path", &set));
       auto_path = (PetscBool)!set;
-      PetscCall(CondensedOrFull(comm, s, m, path));
+      PetscCall(CondensedOrFull(comm, s, m, c));
     }
   }
-  if (m && !s->help) PetscCall(CheckEffect(comm, s, *path, auto_path));
+  if (m && !s->help) PetscCall(CheckEffect(comm, s, c->path, auto_path));
   PetscFunctionReturn(0);
 }
 
@@ -191,7 +192,7 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
 }
 
 /* no contact, or every candidate held closed: one linear solve */
-static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
+static PetscErrorCode SolveLinear(M2dProblem *pb, PetscReal augment, M2dSolution *sol)
 {
   KSP      ksp;
   PetscBool contact = (PetscBool)(sol->path == M2D_PATH_TIED);
@@ -207,7 +208,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
     PetscCall(KKTSolve(&pb->kkt, ksp, sol->u, sol->lam));
     PetscCall(VecSet(sol->active, 1.0));
   } else PetscCall(KSPSolve(ksp, pb->f, sol->u));
-  PetscCall(LinearSolveFailed(ksp, contact, pb->s.kkt_augment));
+  PetscCall(LinearSolveFailed(ksp, contact, augment));
   PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
   PetscCall(Factored(ksp, &sol->factored));
   PetscCall(KSPDestroy(&ksp));
@@ -237,7 +238,7 @@ static PetscErrorCode KeepStep(const M2dProblem *pb, M2dSolution *sol, PetscInt 
 /* the load history: every step of every stage (one step: the scene's loads
  * as assembled), each from the last one's answer; the active set's solver
  * (its factorization) is made once for all of them */
-PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *sol)
+PetscErrorCode M2dSolverSolve(M2dProblem *pb, const M2dSolverChoice *c, M2dSolution *sol)
 {
   M2dActiveSet  *as = NULL;
   PetscInt       n  = SceneLoadSteps(&pb->s), k = 0, its = 0;
@@ -245,7 +246,7 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *s
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(sol, sizeof(*sol)));
-  sol->path = path;
+  sol->path = c->path;
   PetscCall(VecDuplicate(pb->f, &sol->u));
   PetscCall(PetscObjectSetName((PetscObject)sol->u, "displacement"));
   if (pb->has_contact) {
@@ -264,22 +265,22 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, M2dSolverPath path, M2dSolution *s
         PetscCall(ProblemSetLoad(pb, stage, step));
         if (pb->has_contact) PetscCall(KKTSetLoad(&pb->kkt, pb->ubc, k ? sol->u : NULL));
       }
-      if (!as && path != M2D_PATH_LINEAR && path != M2D_PATH_TIED) ierr = M2dActiveSetCreate(pb, path, &as); /* the factorization condenses the first step's load */
+      if (!as && sol->path != M2D_PATH_LINEAR && sol->path != M2D_PATH_TIED) ierr = M2dActiveSetCreate(pb, sol->path, &as); /* the factorization condenses the first step's load */
       if (ierr) break;
       if (as) {
         its  = sol->as.iterations;
         ierr = M2dActiveSetStep(as, sol->u, sol->lam, sol->active, sol->slip, &sol->as);
         its  = sol->as.iterations - its;
-      } else ierr = SolveLinear(pb, sol);
+      } else ierr = SolveLinear(pb, c->kkt_augment, sol);
       if (!ierr && n > 1) ierr = KeepStep(pb, sol, k, stage, step, its);
     }
   sol->nstep = k;
   PetscCall(M2dActiveSetDestroy(&as, &sol->as)); /* also after an error: it holds the factorization */
   PetscCall(ierr);
-  sol->ksp_its_max = path == M2D_PATH_LINEAR || path == M2D_PATH_TIED ? sol->ksp_its : sol->as.ksp_its_max;
-  if (path != M2D_PATH_LINEAR && path != M2D_PATH_TIED) { /* SolveLinear judged its own KSP */
+  sol->ksp_its_max = sol->path == M2D_PATH_LINEAR || sol->path == M2D_PATH_TIED ? sol->ksp_its : sol->as.ksp_its_max;
+  if (sol->path != M2D_PATH_LINEAR && sol->path != M2D_PATH_TIED) { /* SolveLinear judged its own KSP */
     if (sol->as.condensed) sol->factored = PETSC_TRUE; /* MUMPS' LDL^T of K, a dense LU of the interface */
-    else if (path != M2D_PATH_ITERATIVE) PetscCall(Factored(NULL, &sol->factored));
+    else if (sol->path != M2D_PATH_ITERATIVE) PetscCall(Factored(NULL, &sol->factored));
   }
   PetscFunctionReturn(0);
 }
