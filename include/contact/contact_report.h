@@ -21,6 +21,8 @@ typedef struct {
   PetscReal c_exact;      /* Cattaneo-Mindlin: a sqrt(1 - Q/(mu P)), Q the pair's tangential force */
   PetscReal shear_l2_rel; /* relative L2 error of the shear traction's even part against Cattaneo-Mindlin's q(x) on [-1.5a, 1.5a] */
   PetscReal shear_odd_rel; /* the odd part's norm over q's (zero for half-spaces: the finite bodies' own shear) */
+  PetscReal pressure_even_l2_rel; /* the same for the pressure against Hertz's: its even part's error, */
+  PetscReal pressure_odd_rel;     /* and its odd part (the moment the shear sends through a finite contact) */
 } M2dCattaneoResult;
 /* Cattaneo-Mindlin for pair c (a whole cylinder, -cattaneo) after Hertz h:
  * the stick zone and the shear traction q(x) = mu p0 (sqrt(1 - x^2/a^2) -

@@ -83,14 +83,14 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, PetscBool first
   const M2dHertzResult *h  = &e->h;
   const M2dUnits       *un = &pb->units;
   const char           *pk = pb->s.npair > 1 ? " " : "", *pn = pb->s.npair > 1 ? pb->s.pair[k].nm : "";
-  const char           *keys[9] = {"pressure_l2_rel", "half_width", "hertz_a", "hertz_p0", "hertz_radius", "stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel"};
-  PetscReal             vals[9] = {h->pressure_l2_rel, h->half_width * un->L, h->a * un->L, h->p0 * un->S, pb->user->pair[k].hertz_radius, e->cm.c * un->L, e->cm.c_exact * un->L, e->cm.shear_l2_rel, e->cm.shear_odd_rel};
+  const char           *keys[11] = {"pressure_l2_rel", "half_width", "hertz_a", "hertz_p0", "hertz_radius", "stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel", "pressure_even_l2_rel", "pressure_odd_rel"};
+  PetscReal             vals[11] = {h->pressure_l2_rel, h->half_width * un->L, h->a * un->L, h->p0 * un->S, pb->user->pair[k].hertz_radius, e->cm.c * un->L, e->cm.c_exact * un->L, e->cm.shear_l2_rel, e->cm.shear_odd_rel, e->cm.pressure_even_l2_rel, e->cm.pressure_odd_rel};
   PetscBool             cm = (PetscBool)(pb->s.cattaneo && pb->contact.pair[k].mu > 0);
 
   PetscFunctionBeginUser;
   fig->pressure_l2_rel = PetscMax(fig->pressure_l2_rel, h->pressure_l2_rel);
   fig->hertz_pairs++;
-  for (int q = 0; q < (cm ? 9 : 5); q++) PetscCall(M2dSummaryListReal(sum, "pairs", k, keys[q], vals[q]));
+  for (int q = 0; q < (cm ? 11 : 5); q++) PetscCall(M2dSummaryListReal(sum, "pairs", k, keys[q], vals[q]));
   if (first) {
     SummaryReal(sum, "", "pressure_l2_rel", h->pressure_l2_rel);
     SummaryReal(sum, "", "peak_pressure", h->peak_pressure * un->S);
@@ -99,10 +99,10 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, PetscBool first
     SummaryReal(sum, "", "hertz_a", h->a * un->L);
     SummaryReal(sum, "", "hertz_p0", h->p0 * un->S);
     SummaryReal(sum, "", "hertz_radius", pb->user->pair[k].hertz_radius);
-    for (int q = 5; cm && q < 9; q++) SummaryReal(sum, "", keys[q], vals[q]);
+    for (int q = 5; cm && q < 11; q++) SummaryReal(sum, "", keys[q], vals[q]);
   }
   PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Hertz%s%s: a = %.6g (computed %.6g, node spacing %.3g), p0 = %.6g (computed peak %.6g), L2 error of the pressure on [0, 1.5a]: %.4e\n", pk, pn, (double)(h->a * un->L), (double)(h->half_width * un->L), (double)(h->h_edge * un->L), (double)(h->p0 * un->S), (double)(h->peak_pressure * un->S), (double)h->pressure_l2_rel));
-  if (cm) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Cattaneo-Mindlin%s%s: stick zone c = %.6g (computed %.6g), L2 error of the shear traction on [-1.5a, 1.5a]: %.4e (its even part; the odd part %.4e of it)\n", pk, pn, (double)vals[6], (double)vals[5], (double)vals[7], (double)vals[8]));
+  if (cm) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pb->mesh.dm), "Cattaneo-Mindlin%s%s: stick zone c = %.6g (computed %.6g), L2 error of the shear traction on [-1.5a, 1.5a]: %.4e (its even part; the odd part %.4e of it), of the pressure's even part %.4e (the odd part %.4e of Hertz's)\n", pk, pn, (double)vals[6], (double)vals[5], (double)vals[7], (double)vals[8], (double)vals[9], (double)vals[10]));
   PetscFunctionReturn(0);
 }
 
