@@ -7,7 +7,8 @@ Cattaneo-Mindlin's, and the shear unloaded to 0 and reversed against
 Mindlin's slip annuli.
 
     /usr/bin/python3 tools/cattaneo_study.py [--levels 0,1,2,3] [--repeat 3] [--plots docs]
-        [--geo rfine=0.11,grading=4]   (graded meshes of ones own, cattaneo.geo parameters)
+        [--geo rfine=0.11,grading=1]   (graded meshes of one's own: cattaneo.geo's parameters)
+        [--args "-contact_reach 0.02"] (further options for every run)
 
 Levels above 3 are meshed here (gmsh) into the build's meshes directory.
 Times are the least of --repeat runs (the machine is shared); the ratio is
@@ -61,12 +62,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--levels", default="0,1,2,3")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--args", default="", help="further options of the program for every run, e.g. '-contact_reach 0.02'")
     ap.add_argument("--geo", default="", help="cattaneo.geo's parameters for every level, e.g. rfine=0.11,grading=4 (default: the shipped meshes)")
     ap.add_argument("--plots", default="", help="directory for cattaneo_shear.png and cattaneo_reversal.png (none: no plots)")
     opt = ap.parse_args()
     levels = [float(x) if "." in x else int(x) for x in opt.levels.split(",")]   # gmsh takes a fractional level
     params = [p for p in opt.geo.split(",") if p]
-    base = ["-options_file", m2d.opts("cattaneo"), "-contact_monitor", "0", "-output", "csv,summary"]
+    base = ["-options_file", m2d.opts("cattaneo"), "-contact_monitor", "0", "-output", "csv,summary"] + opt.args.split()
     print("| level | dofs | pressure vs Hertz: stage 1 / end (its even part) | c computed / exact | shear (even part) | odd part | active-set steps per load step | both stages (s) | stage 1 in one step (s) | ratio |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     shear = {}
