@@ -484,8 +484,7 @@ static PetscErrorCode VILoad(M2dActiveSet *as)
 }
 
 #define PDAS "semismooth Newton (primal-dual active set), "
-/* name, lambda_only, bounds_by_solver, setup, load, evaluate, residual_u, jacobian, cycled, watch, finish, report, failed, destroy */
-const M2dPathOps M2dPathCondensed = {PDAS "K factored once, steps on the multipliers (condensed)", PETSC_TRUE, PETSC_FALSE, CondensedSetup, CondensedLoad, CondensedEvaluate, NULL, CondensedJac, NULL, NULL, CondensedFinish, NULL, NULL, CondensedDestroyPath};
-const M2dPathOps M2dPathFull      = {PDAS "KKT refactored each step (full)", PETSC_FALSE, PETSC_FALSE, FullSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, NULL, NULL, KKTFinish, NULL, KKTFailed, KKTDestroyPath};
-const M2dPathOps M2dPathIterative = {PDAS "multipliers eliminated, CG + AMG in u (iterative)", PETSC_FALSE, PETSC_FALSE, IterativeSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, IterativeCycled, IterativeWatch, KKTFinish, IterativeReport, NULL, KKTDestroyPath};
-const M2dPathOps M2dPathVI        = {"SNESVINEWTONRSLS, KKT refactored each step (full)", PETSC_FALSE, PETSC_TRUE, VISetup, VILoad, KKTEvaluate, KKTResidualU, NULL, NULL, NULL, KKTFinish, NULL, KKTFailed, KKTDestroyPath};
+const M2dPathOps M2dPathCondensed = {.name = PDAS "K factored once, steps on the multipliers (condensed)", .lambda_only = PETSC_TRUE, .setup = CondensedSetup, .load = CondensedLoad, .evaluate = CondensedEvaluate, .jacobian = CondensedJac, .finish = CondensedFinish, .destroy = CondensedDestroyPath};
+const M2dPathOps M2dPathFull      = {.name = PDAS "KKT refactored each step (full)", .setup = FullSetup, .load = NoLoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .jacobian = KKTJac, .finish = KKTFinish, .failed = KKTFailed, .destroy = KKTDestroyPath};
+const M2dPathOps M2dPathIterative = {.name = PDAS "multipliers eliminated, CG + AMG in u (iterative)", .setup = IterativeSetup, .load = NoLoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .jacobian = KKTJac, .cycled = IterativeCycled, .watch = IterativeWatch, .finish = KKTFinish, .report = IterativeReport, .destroy = KKTDestroyPath};
+const M2dPathOps M2dPathVI        = {.name = "SNESVINEWTONRSLS, KKT refactored each step (full)", .bounds_by_solver = PETSC_TRUE, .setup = VISetup, .load = VILoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .finish = KKTFinish, .failed = KKTFailed, .destroy = KKTDestroyPath};
