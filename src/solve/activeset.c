@@ -52,7 +52,7 @@ static PetscErrorCode RulesToVecs(M2dActiveSet *as)
  * rank: a normal row is a constraint where lambda/c - g~ >= -tol (closed); a
  * tangential row of a closed node is a constraint where |xi_t| <= mu xi_n
  * (stick), else a force lambda_t = s xi_n, s = mu sign(xi_t) (slip), and a
- * force with s = 0 where its node is open; VI: closed where lambda > 0.
+ * force with s = 0 where its node is open; the VI solver's: closed where lambda > 0.
  * Counts the states and the rows changed against `used`. */
 static PetscErrorCode Rules(M2dActiveSet *as)
 {
@@ -66,7 +66,7 @@ static PetscErrorCode Rules(M2dActiveSet *as)
     PetscReal lj = PetscRealPart(l[j]), gj = PetscRealPart(g[j]);
     PetscInt  p  = as->partner ? as->partner[j] : -1;
     as->coef[j]  = 0;
-    if (p < 0) as->rule[j] = (as->vi ? lj > 0 : lj / as->c + gj >= -as->tol[j]) ? 1.0 : 0.0;
+    if (p < 0) as->rule[j] = (as->ops->bounds_by_solver ? lj > 0 : lj / as->c + gj >= -as->tol[j]) ? 1.0 : 0.0;
     else if (as->rule[p] == 0) as->rule[j] = 0; /* an open node: no friction force */
     else {
       PetscReal xi = lj + as->c * gj, bound = as->mu[j] * (PetscRealPart(l[p]) + as->c * PetscRealPart(g[p]));
@@ -127,7 +127,7 @@ static PetscErrorCode ActiveSetFunction(SNES snes, Vec x, Vec F, void *ctx)
   for (PetscInt j = lo; j < hi; j++) {
     PetscReal lj = PetscRealPart(l[j - lo]), gj = PetscRealPart(g[j - lo]);
     PetscInt  p  = as->partner ? as->partner[j] : -1;
-    if (as->vi) f[j - lo] = gj * (-as->c * as->h);
+    if (as->ops->bounds_by_solver) f[j - lo] = gj * (-as->c * as->h);
     else if (p < 0 && !as->forced) f[j - lo] = as->c * as->h * PetscMax(-lj / as->c, gj);
     else if (as->rule[j] != 0) f[j - lo] = as->c * as->h * gj;
     else f[j - lo] = as->h * ((p < 0 ? 0 : as->coef[j] * (PetscRealPart(la[p]) + as->c * PetscRealPart(ga[p]))) - lj);
@@ -163,8 +163,9 @@ static uint64_t RulesHash(const M2dActiveSet *as)
 }
 
 /* A set that returns to one seen two or more steps ago is a cycle: c is raised
- * tenfold (at most max_cycles times) and the rules recomputed; on the VI path
- * the cycles are only counted. */
+ * tenfold (at most max_cycles times) and the rules recomputed, unless the path
+ * answers it (ops->cycled); with the VI solver's bounds the cycles are only
+ * counted. */
 static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
 {
   M2dSetHistory *hi = &as->hist;
@@ -175,16 +176,14 @@ static PetscErrorCode BreakCycle(M2dActiveSet *as, MPI_Comm comm)
   /* (an unchanged set is not a cycle: the last entry is the previous step's set) */
   for (PetscInt k = 0; k + 1 < hi->n && !(hi->hash[hi->n - 1] == h && hi->count[hi->n - 1] == cnt); k++)
     if (hi->hash[k] == h && hi->count[k] == cnt) {
-      if (as->iter && !as->proving) { /* an inexact step's set may have been wrong: prove the sets from here before raising c */
-        as->proving = PETSC_TRUE;
-        PetscCall(PetscPrintf(comm, "  active set back to the set of step %" PetscInt_FMT " at step %" PetscInt_FMT ": each step's set proven from here\n", k, as->step));
-        break;
-      }
+      PetscBool answered = PETSC_FALSE;
+      if (as->ops->cycled) PetscCall(as->ops->cycled(as, k, &answered));
+      if (answered) break;
       if (++hi->cycles > hi->max_cycles) {
         hi->failed = PETSC_TRUE;
         break;
       }
-      if (as->vi) break; /* the VI solver's set is its own (lambda > 0) and its Jacobian holds c, built once: a raised c would only make the two disagree */
+      if (as->ops->bounds_by_solver) break; /* the solver's set is its own (lambda > 0) and its Jacobian holds c, built once: a raised c would only make the two disagree */
       PetscCall(PetscPrintf(comm, "  active set cycling at step %" PetscInt_FMT " (back to the set of step %" PetscInt_FMT "): c raised from %g to %g\n", as->step, k, (double)(as->c * CUser(as->pb)), (double)(10 * as->c * CUser(as->pb))));
       as->c *= 10;
       PetscCall(Rules(as));
@@ -339,9 +338,24 @@ static PetscErrorCode ActiveSetJacobian(SNES snes, Vec x, Mat J, Mat P, void *ct
   (void)x;
   (void)J;
   (void)P;
-  if (as->vi) PetscFunctionReturn(0); /* constant Jacobian, built once */
   PetscCall(ChooseSet(as, PetscObjectComm((PetscObject)snes)));
   PetscCall(as->ops->jacobian(as));
+  PetscFunctionReturn(0);
+}
+
+/* the VI solver's: its Jacobian is built once (VISetup), its set followed after each step */
+static PetscErrorCode SolverJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+{
+  PetscFunctionBeginUser;
+  (void)snes, (void)x, (void)J, (void)P, (void)ctx;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SolverStep(SNES snes, PetscInt it, PetscReal fnorm, void *ctx)
+{
+  PetscFunctionBeginUser;
+  (void)fnorm;
+  if (it > 0) PetscCall(ChooseSet((M2dActiveSet *)ctx, PetscObjectComm((PetscObject)snes)));
   PetscFunctionReturn(0);
 }
 
@@ -365,13 +379,7 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   else if (PetscIsInfOrNanReal(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
   else if (same && ((as->exact && it > 0) || fnorm <= atol || fnorm <= rtol * as->fnorm0)) *reason = it > 0 ? SNES_CONVERGED_FNORM_RELATIVE : SNES_CONVERGED_FNORM_ABS;
   else if (it >= maxit) *reason = SNES_DIVERGED_MAX_IT;
-  if (as->iter && !as->proving && it > 0) { /* sets taken from inexact solves that send |F| up: proven from here */
-    if (it > 1 && fnorm > M2D_RISE * as->fbest) {
-      as->proving = PETSC_TRUE;
-      PetscCall(PetscPrintf(PetscObjectComm((PetscObject)snes), "  active set step %2" PetscInt_FMT ": |F| %.3e, %.0f times the least since step 1: each step's set proven from here\n", it, (double)fnorm, (double)(fnorm / as->fbest)));
-    }
-    as->fbest = it == 1 ? fnorm : PetscMin(as->fbest, fnorm);
-  }
+  if (as->ops->watch) PetscCall(as->ops->watch(as, it, fnorm));
   PetscFunctionReturn(0);
 }
 
@@ -382,7 +390,7 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
   MPI_Comm      comm = PetscObjectComm((PetscObject)snes);
 
   PetscFunctionBeginUser;
-  if (as->vi && it > 0) PetscCall(ChooseSet(as, comm)); /* the VI solver has no Jacobian hook of ours */
+  (void)it;
   if (!as->monitor) PetscFunctionReturn(0);
   if (as->partner) PetscCall(PetscPrintf(comm, "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " closed (%" PetscInt_FMT " stick, %" PetscInt_FMT " slip), %" PetscInt_FMT " rows changed  |F| %.3e\n", as->total, as->nclosed, as->nstick, as->nslip, as->changed, (double)fnorm));
   else PetscCall(PetscPrintf(comm, "  active set step %2" PetscInt_FMT ": %6" PetscInt_FMT " closed, %" PetscInt_FMT " changed  |F| %.3e\n", as->total, as->nclosed, as->changed, (double)fnorm));
@@ -391,7 +399,8 @@ static PetscErrorCode Monitor(SNES snes, PetscInt it, PetscReal fnorm, void *ctx
 
 /* ---------------------------------------------------------------- set-up */
 
-/* newtonls with full steps (PDAS) and MUMPS LU, or vinewtonrsls; then the options database */
+/* newtonls with full steps (PDAS) and MUMPS LU, or vinewtonrsls; then the
+ * options database; the path's table */
 static PetscErrorCode ConfigureSNES(M2dActiveSet *as, M2dSolverPath path)
 {
   SNES           snes = as->snes;
@@ -399,7 +408,7 @@ static PetscErrorCode ConfigureSNES(M2dActiveSet *as, M2dSolverPath path)
   SNESLineSearch ls;
   KSP            ksp;
   PC             pc;
-  PetscBool      ok, pre;
+  PetscBool      ok, pre, vi;
 
   PetscFunctionBeginUser;
   PetscCall(SNESSetType(snes, SNESNEWTONLS));
@@ -412,18 +421,19 @@ static PetscErrorCode ConfigureSNES(M2dActiveSet *as, M2dSolverPath path)
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(SNESSetTolerances(snes, 1e-50, 1e-10, 0.0, 50, -1));
   PetscCall(SNESSetFromOptions(snes));
-  PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESVINEWTONRSLS, &as->vi));
-  if (as->vi) { /* -snes_type resets the line search: full steps again, unless the options say otherwise */
+  PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESVINEWTONRSLS, &vi));
+  if (vi) { /* -snes_type resets the line search: full steps again, unless the options say otherwise */
     PetscCall(SNESGetLineSearch(snes, &ls));
     PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     PetscCall(SNESLineSearchSetFromOptions(ls));
   }
   PetscCall(PetscObjectTypeCompare((PetscObject)snes, SNESNEWTONLS, &ok));
-  PetscCheck(ok || as->vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
-  PetscCheck(!as->vi || !as->partner, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: PETSc's VI solver bounds the pressure only; with friction use the default newtonls (the condensed or full path)");
+  PetscCheck(ok || vi, comm, PETSC_ERR_USER_INPUT, "option -snes_type: contact is solved with newtonls (primal-dual active set) or vinewtonrsls");
+  PetscCheck(!vi || !as->partner, comm, PETSC_ERR_USER_INPUT, "option -snes_type vinewtonrsls: PETSc's VI solver bounds the pressure only; with friction use the default newtonls (the condensed or full path)");
   if (path != M2D_PATH_ITERATIVE) PetscCall(KKTSetupKSP(as->kkt, ksp)); /* the iterative path solves by blocks */
   PetscCall(PetscObjectTypeCompare((PetscObject)ksp, KSPPREONLY, &pre));
   as->exact = (PetscBool)(path == M2D_PATH_CONDENSED || (path == M2D_PATH_FULL && pre));
+  as->ops   = vi ? &M2dPathVI : path == M2D_PATH_CONDENSED ? &M2dPathCondensed : path == M2D_PATH_ITERATIVE ? &M2dPathIterative : &M2dPathFull;
   PetscFunctionReturn(0);
 }
 
@@ -512,7 +522,7 @@ static PetscErrorCode InitialRules(M2dActiveSet *as)
   const M2dContact *ct = &as->pb->contact;
   const PetscScalar *r;
   Vec                rall;
-  PetscInt           how = as->pb->s.contact_initial == 0 && as->vi ? 1 : as->pb->s.contact_initial, np = ct->npair; /* VI: at least the closest nodes (VILoad) */
+  PetscInt           how = as->pb->s.contact_initial == 0 && as->ops->bounds_by_solver ? 1 : as->pb->s.contact_initial, np = ct->npair; /* the VI solver's: at least the closest nodes (VILoad) */
   PetscReal         *gmin, *L;
 
   PetscFunctionBeginUser;
@@ -570,13 +580,7 @@ static PetscErrorCode Failed(M2dActiveSet *as, SNESConvergedReason reason, Petsc
     PetscCheck(ratio <= 1e6 || !(as->hist.failed || (reason == SNES_DIVERGED_MAX_IT && steps >= 50)), comm, PETSC_ERR_NOT_CONVERGED, "active set %s after %" PetscInt_FMT " steps: the moduli of '%s' and '%s' differ by a factor %.1e and round-off decides the contact state; bring -%s_E within 1e6 of -%s_E (a body a million times stiffer is rigid for the other)",
                as->hist.failed ? "keeps cycling" : "did not settle", steps, pb->s.body[soft].name, pb->s.body[stiff].name, (double)ratio, pb->s.body[soft].name, pb->s.body[stiff].name);
   }
-  if (!as->cond && !as->iter) { /* the full path's KSP, from the options */
-    char what[64];
-    PetscCall(KKTFieldsplitCheck(ksp, as->kkt->gamma));
-    if (kr < 0) PetscCall(PetscSNPrintf(what, sizeof(what), "linear solve in active-set step %" PetscInt_FMT " failed", steps));
-    else PetscCall(PetscSNPrintf(what, sizeof(what), "active set %s after %" PetscInt_FMT " steps", as->hist.failed ? "keeps cycling" : "did not settle", steps));
-    PetscCall(KKTKrylovCheck(ksp, what, PETSC_FALSE));
-  }
+  if (as->ops->failed) PetscCall(as->ops->failed(as, steps));
   PetscCheck(!as->hist.failed, comm, PETSC_ERR_NOT_CONVERGED, "active set keeps cycling (%" PetscInt_FMT " cycles after raising c to %g): no solution found (check the load direction and the supports)", as->hist.cycles, (double)(as->c * CUser(as->pb)));
   PetscCheck(reason != SNES_DIVERGED_MAX_IT, comm, PETSC_ERR_NOT_CONVERGED, "active set did not settle in %" PetscInt_FMT " steps (-snes_max_it)", steps);
   PetscCheck(kr >= 0, comm, PETSC_ERR_NOT_CONVERGED, "linear solve in active-set step %" PetscInt_FMT " failed (%s): is every body held (by supports, or by contact)?", steps, KSPConvergedReasons[kr]);
@@ -596,17 +600,21 @@ PetscErrorCode M2dActiveSetCreate(M2dProblem *pb, M2dSolverPath path, M2dActiveS
   PetscCall(ContextCreate(pb, as));
   PetscCall(SNESCreate(comm, &as->snes));
   PetscCall(ConfigureSNES(as, path));
-  as->ops = as->vi ? &M2dPathVI : path == M2D_PATH_CONDENSED ? &M2dPathCondensed : path == M2D_PATH_ITERATIVE ? &M2dPathIterative : &M2dPathFull;
   PetscCheck(!as->partner || path != M2D_PATH_ITERATIVE, comm, PETSC_ERR_USER_INPUT, "option -kkt_path iterative: friction (-contact_friction) is solved on the condensed path (the default) or -kkt_path full");
   PetscCall(VecDuplicate(as->ops->lambda_only ? pb->kkt.r : pb->kkt.x, &as->x));
   PetscCall(VecDuplicate(as->x, &as->F));
   PetscCall(SNESSetFunction(as->snes, as->F, ActiveSetFunction, as));
   PetscCall(as->ops->setup(as, &as->setup)); /* the paths' options are read here */
   PetscCall(M2dOptionsCheckUnused(comm, ProblemPathSays(&pb->s, path))); /* the solvers are configured: an option nobody read is a typo */
-  if (!as->vi) PetscCall(SNESSetConvergenceTest(as->snes, Converged, as, NULL));
-  PetscCall(SNESSetJacobian(as->snes, as->J, as->J, ActiveSetJacobian, as));
+  if (as->ops->bounds_by_solver) { /* the solver's steps and stop; its set followed after each step */
+    PetscCall(SNESSetJacobian(as->snes, as->J, as->J, SolverJacobian, as));
+    PetscCall(SNESMonitorSet(as->snes, SolverStep, as, NULL));
+  } else { /* the set chosen before each step's matrix; the loop's stop */
+    PetscCall(SNESSetJacobian(as->snes, as->J, as->J, ActiveSetJacobian, as));
+    PetscCall(SNESSetConvergenceTest(as->snes, Converged, as, NULL));
+  }
   PetscCall(SNESMonitorSet(as->snes, Monitor, as, NULL));
-  PetscCall(PetscPrintf(comm, "active set: %s, %s, c = %g, %" PetscInt_FMT " candidate nodes%s\n", as->vi ? "SNESVINEWTONRSLS" : "semismooth Newton (primal-dual active set)", as->ops->name, (double)(as->c * CUser(pb)), as->nn, as->partner ? ", Coulomb friction" : ""));
+  PetscCall(PetscPrintf(comm, "active set: %s, c = %g, %" PetscInt_FMT " candidate nodes%s\n", as->ops->name, (double)(as->c * CUser(pb)), as->nn, as->partner ? ", Coulomb friction" : ""));
   PetscFunctionReturn(0);
 }
 
@@ -622,7 +630,7 @@ PetscErrorCode M2dActiveSetStep(M2dActiveSet *as, Vec u, Vec lam, Vec active, Ve
     PetscCall(VecZeroEntries(as->x));
   }
   PetscCall(as->ops->load(as));
-  as->forced  = (PetscBool)!as->vi; /* the step's first solve takes the states it is given */
+  as->forced  = (PetscBool)!as->ops->bounds_by_solver; /* the step's first solve takes the states it is given (the solver's: lambda > 0) */
   as->step    = 0;
   as->hist.n  = 0;
   PetscCall(SNESSolve(as->snes, NULL, as->x));
@@ -631,7 +639,7 @@ PetscErrorCode M2dActiveSetStep(M2dActiveSet *as, Vec u, Vec lam, Vec active, Ve
   if (reason <= 0) PetscCall(Failed(as, reason, as->total));
   as->started = PETSC_TRUE;
   PetscCall(as->ops->finish(as, as->x, u, lam));
-  if (!as->vi) { /* the rows of the answer: open ones exactly 0, not round-off */
+  if (!as->ops->bounds_by_solver) { /* the rows of the answer: open ones exactly 0, not round-off (the solver's: its bounds) */
     const PetscScalar *s;
     PetscScalar       *l;
     PetscInt           lo, hi;
@@ -668,16 +676,10 @@ PetscErrorCode M2dActiveSetStep(M2dActiveSet *as, Vec u, Vec lam, Vec active, Ve
   info->nslip      = as->nslip;
   info->cycles     = as->hist.cycles;
   info->c          = as->c;
-  info->vi         = as->vi;
-  info->condensed  = (PetscBool)(as->cond != NULL);
-  if (as->iter) {
-    M2dIterativeInfo ii;
-    PetscCall(M2dIterativeGetInfo(as->iter, &ii));
-    info->ksp_its_max   = ii.its_max;
-    info->ksp_its_total = ii.its_total;
-    info->pc_setups     = ii.setups;
-    PetscCall(PetscPrintf(comm, "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups, contact zone of %" PetscInt_FMT " unknowns, %" PetscInt_FMT " steps on an inexact solve's set\n", ii.solves, ii.its_total, ii.its_max, ii.setups, ii.zone_dofs, as->unproven));
-  } else info->ksp_its_max = 1; /* direct solves */
+  info->vi         = as->ops->bounds_by_solver;
+  info->condensed  = as->ops->lambda_only;
+  info->ksp_its_max = 1; /* direct solves, unless the path reports its own */
+  if (as->ops->report) PetscCall(as->ops->report(as, info));
   if (as->partner) PetscCall(PetscPrintf(comm, "active set: converged in %" PetscInt_FMT " steps (%s), %" PetscInt_FMT " closed nodes: %" PetscInt_FMT " stick, %" PetscInt_FMT " slip\n", its, SNESConvergedReasons[reason], as->nclosed, as->nstick, as->nslip));
   else PetscCall(PetscPrintf(comm, "active set: converged in %" PetscInt_FMT " steps (%s), %" PetscInt_FMT " active nodes\n", its, SNESConvergedReasons[reason], as->nclosed));
   PetscFunctionReturn(0);
@@ -689,11 +691,7 @@ PetscErrorCode M2dActiveSetDestroy(M2dActiveSet **asp, M2dActiveSetInfo *info)
 
   PetscFunctionBeginUser;
   if (!as) PetscFunctionReturn(0);
-  if (info && as->pb->keep_factor) { /* handed over */
-    info->factor = as->cond;
-    as->cond     = NULL;
-  }
-  if (as->ops) PetscCall(as->ops->destroy(as));
+  if (as->ops) PetscCall(as->ops->destroy(as, info && as->pb->keep_factor ? info : NULL));
   PetscCall(SNESDestroy(&as->snes));
   PetscCall(VecDestroy(&as->x));
   PetscCall(VecDestroy(&as->F));

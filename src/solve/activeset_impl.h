@@ -14,8 +14,13 @@
 /* How one solver path takes the loop's steps. The unknown x is the path's:
  * [u; lambda] in the KKT layout, or the condensed path's nu (condensed.h). */
 typedef struct {
-  const char *name;      /* printed: how a step is solved */
-  PetscBool   lambda_only; /* x and F have the multiplier rows only (the u rows hold by construction) */
+  const char *name;        /* printed: the method, and how a step is solved */
+  PetscBool   lambda_only; /* x and F have the multiplier rows only (the u rows hold by construction): the condensed path */
+  /* PETSc's VI solver takes the steps, with lambda >= 0 as its bounds: its set
+   * is lambda > 0 (at least the closest nodes at first, VILoad), F's multiplier
+   * rows are the gap, its Jacobian is built once, its stop is its own; the
+   * loop follows its sets after each step (cycles counted, c kept) */
+  PetscBool bounds_by_solver;
   /* factor or build once; the SNES's Jacobian matrix and step solver */
   PetscErrorCode (*setup)(M2dActiveSet *as, M2dActiveSetInfo *info);
   /* a load step begins: the KKT's f and r are the step's */
@@ -24,11 +29,20 @@ typedef struct {
   PetscErrorCode (*evaluate)(M2dActiveSet *as, Vec x);
   /* the u rows of F at x, with the rules of the iterate (NULL: none, lambda_only) */
   PetscErrorCode (*residual_u)(M2dActiveSet *as, Vec x, Vec F);
-  /* the step's matrix for the rules as->active, as->slip */
+  /* the step's matrix for the rules as->active, as->slip (NULL: the solver's, built once) */
   PetscErrorCode (*jacobian)(M2dActiveSet *as);
+  /* the sets back to step k's: *answered if the path answers it (NULL: c is raised) */
+  PetscErrorCode (*cycled)(M2dActiveSet *as, PetscInt k, PetscBool *answered);
+  /* |F| at step it (NULL: nothing to watch) */
+  PetscErrorCode (*watch)(M2dActiveSet *as, PetscInt it, PetscReal fnorm);
   /* u and lambda of the answer x */
   PetscErrorCode (*finish)(M2dActiveSet *as, Vec x, Vec u, Vec lam);
-  PetscErrorCode (*destroy)(M2dActiveSet *as);
+  /* the path's own figures of the load step into info, printed (NULL: direct solves, none) */
+  PetscErrorCode (*report)(M2dActiveSet *as, M2dActiveSetInfo *info);
+  /* the iteration failed after `steps` steps: the step solver's own diagnosis (NULL: none) */
+  PetscErrorCode (*failed)(M2dActiveSet *as, PetscInt steps);
+  /* keep: the caller keeps what the path hands over (the condensed factorization), or NULL */
+  PetscErrorCode (*destroy)(M2dActiveSet *as, M2dActiveSetInfo *keep);
 } M2dPathOps;
 
 /* the sets visited, to detect cycling: a hash and a count per step */
@@ -48,7 +62,7 @@ struct M2dActiveSet {
   Mat               J;      /* the path's Jacobian matrix (the condensed path's dense one), or NULL */
   PetscReal         c;      /* complementarity parameter */
   PetscReal         h;      /* mean non-mortar edge length: rows scaled by c h (weighted gap -> force) */
-  PetscBool         vi, monitor;
+  PetscBool         monitor;
   PetscBool         exact;  /* each step solved directly: a step whose states stay is the answer */
   /* the rows (every rank holds all of them) */
   PetscInt          n, nn;   /* rows, normal rows */

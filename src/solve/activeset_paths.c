@@ -129,9 +129,13 @@ static PetscErrorCode CondensedFinish(M2dActiveSet *as, Vec nu, Vec u, Vec lam)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CondensedDestroyPath(M2dActiveSet *as)
+static PetscErrorCode CondensedDestroyPath(M2dActiveSet *as, M2dActiveSetInfo *keep)
 {
   PetscFunctionBeginUser;
+  if (keep) { /* handed over */
+    keep->factor = as->cond;
+    as->cond     = NULL;
+  }
   PetscCall(CondensedDestroy(&as->cond));
   PetscCall(VecDestroy(&as->cu));
   PetscFunctionReturn(0);
@@ -193,7 +197,7 @@ static PetscErrorCode KKTResidualU(M2dActiveSet *as, Vec z, Vec F)
   PetscCall(MatMult(kkt->K, as->u, Fu));
   PetscCall(MatMultAdd(kkt->Ct, as->lam, Fu, Fu));
   PetscCall(VecAXPY(Fu, -1.0, kkt->f));
-  if (kkt->gamma > 0 && !as->vi) {
+  if (kkt->gamma > 0) { /* (not with the VI solver's bounds: VISetup) */
     Vec t, t2;
     PetscCall(VecDuplicate(as->lam, &t));
     PetscCall(VecDuplicate(as->u, &t2));
@@ -224,15 +228,33 @@ static PetscErrorCode KKTFinish(M2dActiveSet *as, Vec z, Vec u, Vec lam)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode KKTDestroyPath(M2dActiveSet *as)
+static PetscErrorCode KKTDestroyPath(M2dActiveSet *as, M2dActiveSetInfo *keep)
 {
   PetscFunctionBeginUser;
+  (void)keep;
   PetscCall(M2dIterativeDestroy(&as->iter));
   PetscCall(VecDestroy(&as->du));
   PetscCall(VecDestroy(&as->cdu));
   PetscCall(VecDestroy(&as->m[0]));
   PetscCall(VecDestroy(&as->m[1]));
   PetscCall(VecDestroy(&as->tolv));
+  PetscFunctionReturn(0);
+}
+
+/* the full path's KSP, from the options: what went wrong in it */
+static PetscErrorCode KKTFailed(M2dActiveSet *as, PetscInt steps)
+{
+  KSP                ksp;
+  KSPConvergedReason kr;
+  char               what[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(as->snes, &ksp));
+  PetscCall(KSPGetConvergedReason(ksp, &kr));
+  PetscCall(KKTFieldsplitCheck(ksp, as->kkt->gamma));
+  if (kr < 0) PetscCall(PetscSNPrintf(what, sizeof(what), "linear solve in active-set step %" PetscInt_FMT " failed", steps));
+  else PetscCall(PetscSNPrintf(what, sizeof(what), "active set %s after %" PetscInt_FMT " steps", as->hist.failed ? "keeps cycling" : "did not settle", steps));
+  PetscCall(KKTKrylovCheck(ksp, what, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -364,6 +386,43 @@ static PetscErrorCode IterativeSetup(M2dActiveSet *as, M2dActiveSetInfo *info)
   PetscFunctionReturn(0);
 }
 
+/* the sets back to step k's: an inexact step's set may have been wrong, so
+ * the sets are proven from here before c is raised */
+static PetscErrorCode IterativeCycled(M2dActiveSet *as, PetscInt k, PetscBool *answered)
+{
+  PetscFunctionBeginUser;
+  if (as->proving) PetscFunctionReturn(0);
+  as->proving = *answered = PETSC_TRUE;
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->snes), "  active set back to the set of step %" PetscInt_FMT " at step %" PetscInt_FMT ": each step's set proven from here\n", k, as->step));
+  PetscFunctionReturn(0);
+}
+
+/* sets taken from inexact solves that send |F| up: proven from here */
+static PetscErrorCode IterativeWatch(M2dActiveSet *as, PetscInt it, PetscReal fnorm)
+{
+  PetscFunctionBeginUser;
+  if (as->proving || it == 0) PetscFunctionReturn(0);
+  if (it > 1 && fnorm > M2D_RISE * as->fbest) {
+    as->proving = PETSC_TRUE;
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->snes), "  active set step %2" PetscInt_FMT ": |F| %.3e, %.0f times the least since step 1: each step's set proven from here\n", it, (double)fnorm, (double)(fnorm / as->fbest)));
+  }
+  as->fbest = it == 1 ? fnorm : PetscMin(as->fbest, fnorm);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode IterativeReport(M2dActiveSet *as, M2dActiveSetInfo *info)
+{
+  M2dIterativeInfo ii;
+
+  PetscFunctionBeginUser;
+  PetscCall(M2dIterativeGetInfo(as->iter, &ii));
+  info->ksp_its_max   = ii.its_max;
+  info->ksp_its_total = ii.its_total;
+  info->pc_setups     = ii.setups;
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)as->snes), "active set: %" PetscInt_FMT " Krylov solves, %" PetscInt_FMT " iterations in all, at most %" PetscInt_FMT " in one, %" PetscInt_FMT " preconditioner set-ups, contact zone of %" PetscInt_FMT " unknowns, %" PetscInt_FMT " steps on an inexact solve's set\n", ii.solves, ii.its_total, ii.its_max, ii.setups, ii.zone_dofs, as->unproven));
+  PetscFunctionReturn(0);
+}
+
 /* vinewtonrsls: Jacobian [K C^T; -C 0] (all rows, multiplier rows negated), lambda >= 0 */
 static PetscErrorCode VISetup(M2dActiveSet *as, M2dActiveSetInfo *info)
 {
@@ -424,7 +483,8 @@ static PetscErrorCode VILoad(M2dActiveSet *as)
   PetscFunctionReturn(0);
 }
 
-const M2dPathOps M2dPathCondensed = {"K factored once, steps on the multipliers (condensed)", PETSC_TRUE, CondensedSetup, CondensedLoad, CondensedEvaluate, NULL, CondensedJac, CondensedFinish, CondensedDestroyPath};
-const M2dPathOps M2dPathFull      = {"KKT refactored each step (full)", PETSC_FALSE, FullSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};
-const M2dPathOps M2dPathIterative = {"multipliers eliminated, CG + AMG in u (iterative)", PETSC_FALSE, IterativeSetup, NoLoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};
-const M2dPathOps M2dPathVI        = {"KKT refactored each step (full)", PETSC_FALSE, VISetup, VILoad, KKTEvaluate, KKTResidualU, KKTJac, KKTFinish, KKTDestroyPath};
+#define PDAS "semismooth Newton (primal-dual active set), "
+const M2dPathOps M2dPathCondensed = {.name = PDAS "K factored once, steps on the multipliers (condensed)", .lambda_only = PETSC_TRUE, .setup = CondensedSetup, .load = CondensedLoad, .evaluate = CondensedEvaluate, .jacobian = CondensedJac, .finish = CondensedFinish, .destroy = CondensedDestroyPath};
+const M2dPathOps M2dPathFull      = {.name = PDAS "KKT refactored each step (full)", .setup = FullSetup, .load = NoLoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .jacobian = KKTJac, .finish = KKTFinish, .failed = KKTFailed, .destroy = KKTDestroyPath};
+const M2dPathOps M2dPathIterative = {.name = PDAS "multipliers eliminated, CG + AMG in u (iterative)", .setup = IterativeSetup, .load = NoLoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .jacobian = KKTJac, .cycled = IterativeCycled, .watch = IterativeWatch, .finish = KKTFinish, .report = IterativeReport, .destroy = KKTDestroyPath};
+const M2dPathOps M2dPathVI        = {.name = "SNESVINEWTONRSLS, KKT refactored each step (full)", .bounds_by_solver = PETSC_TRUE, .setup = VISetup, .load = VILoad, .evaluate = KKTEvaluate, .residual_u = KKTResidualU, .finish = KKTFinish, .failed = KKTFailed, .destroy = KKTDestroyPath};
