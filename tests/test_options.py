@@ -102,6 +102,7 @@ bad("typo under -ksp_ (tied, linear solve)", PATCH + ["-contact_unilateral", "fa
 bad("typo under -snes_ (active set)", PATCH + ["-snes_max_iter", "5"], ["-snes_max_iter", "did you mean -snes_max_it?"])
 bad("typo under -pc_ (no contact)", BLOCK + ["-pc_factor_mat_solver_tpye", "mumps"], ["-pc_factor_mat_solver_tpye", "did you mean -pc_factor_mat_solver_type?"])
 bad("typo under a split's prefix", PATCH + ["-options_file", opts("kkt_fieldsplit"), "-fieldsplit_u_pc_tpye", "lu"], ["-fieldsplit_u_pc_tpye", "did you mean -fieldsplit_u_pc_type?"])
+bad("typo under an inner solver's prefix", PATCH + ["-kkt_path", "full", "-pc_type", "redundant", "-redundant_pc_tpye", "lu"], ["-redundant_pc_tpye", "did you mean -redundant_pc_type?"])
 bad("typo of a MUMPS option", PATCH + ["-kkt_path", "full", "-mat_mumps_icntl7", "2"], ["-mat_mumps_icntl7", "did you mean -mat_mumps_icntl_7?"])
 bad("PETSc option nothing reads", BLOCK + ["-dm_refine", "2"], ["-dm_refine"])
 # no false alarm: options read late (viewers, finalize), only on some paths, or by a split
@@ -110,6 +111,7 @@ good("viewers, reports and finalize-time options", BLOCK + ["-ksp_converged_reas
 good("full path with PETSc's MUMPS options", PATCH + ["-kkt_path", "full", "-options_file", opts("kkt_mumps"), "-mat_mumps_icntl_24", "1", "-snes_max_it", "20"])
 good("condensed path with PETSc's MUMPS options on the full path", PATCH + ["-kkt_path", "full", "-options_file", opts("kkt_mumps"), "-mat_mumps_cntl_1", "0.01", "-snes_rtol", "1e-10"])
 good("fieldsplit (kkt_fieldsplit.opts)", PATCH + ["-options_file", opts("kkt_fieldsplit")])
+good("an inner solver's options (PCREDUNDANT: read at its set-up)", PATCH + ["-kkt_path", "full", "-pc_type", "redundant", "-redundant_pc_type", "lu", "-redundant_pc_factor_mat_solver_type", "mumps"])
 good("PETSc's partitioner options", PATCH + ["-mesh_partitioner", "petsc", "-petscpartitioner_type", "simple"])
 good("option names are case-insensitive (as PETSc)", PATCH + ["-Lower_E", "1e9", "-CONTACT_METHOD", "mortar"])
 good("PETSc tolerances inside their domain", PATCH + ["-kkt_path", "full", "-ksp_rtol", "1e-8", "-snes_stol", "1e-8", "-snes_max_it", "2147483647"], ranklist=(1,))

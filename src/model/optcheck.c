@@ -18,7 +18,7 @@ static int  nknown;
 
 /* prefixes of the options PETSc's objects read when they are configured (the
  * first check leaves them to the second) */
-static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "iterative_", "dual_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
+static const char *const petsc_prefix[] = {"ksp_", "pc_", "snes_", "mat_", "matproduct_", "fieldsplit_", "redundant_", "iterative_", "dual_", "sub_", "mg_", "dm_", "petscpartitioner_", "petscsection_", "vec_", "is_", "sf_", "viewer_", "draw_", "log_", "malloc", "memory_", "info", "help", "version", "options_", "on_error_", "objects_", "fp_trap", "debugger", "start_in_debugger", "stop_for_debugger", "no_signal_handler", "error_output_", "check_pointer_intensity", "history", "nox", "display", "petsc_", "skip_petscrc", "use_gpu_aware_mpi", "mpi_", "device_", "default_device_type", "root_device_context_", "saws_", "citations", "tmp", "shared_tmp", "not_shared_tmp", "get_total_flops", "vecscatter_", "hdf5_"};
 
 /* PETSc options users type most, for "did you mean" and as names known to
  * PETSc (unread when the solvers are configured: no effect on that path) */
@@ -95,7 +95,7 @@ static PetscBool MumpsName(const char *name)
  * dual.h): its length (0: none) */
 static size_t SplitPrefix(const char *name)
 {
-  static const char *const own[] = {"iterative_", "dual_"};
+  static const char *const own[] = {"iterative_", "dual_", "redundant_", "sub_"}; /* the last two: PCREDUNDANT's and PCBJACOBI's/PCASM's inner solvers */
   const char              *u;
   for (size_t i = 0; i < sizeof(own) / sizeof(own[0]); i++)
     if (!strncasecmp(name, own[i], strlen(own[i]))) return strlen(own[i]);
@@ -322,10 +322,11 @@ PetscErrorCode M2dOptionsCheckUnused(MPI_Comm comm, const char *why)
   for (PetscInt i = 0; i < n && !ierr; i++) {
     const char *rest = unread[i] + SplitPrefix(unread[i]), *file = NULL;
     /* a known name nobody read: it does nothing on this path, except under a
-     * PCFIELDSPLIT split's prefix (read when the split's solver is set up, in
-     * the solve); anything else is a typo */
+     * PCFIELDSPLIT split's prefix or an inner solver's (PCREDUNDANT's, a block
+     * solver's: read when that solver is set up, in the solve); anything else
+     * is a typo */
     if (Known(unread[i]) || Known(rest) || IN_LIST(rest, petsc_common, PETSC_FALSE)) {
-      if (strncasecmp(unread[i], "fieldsplit_", 11) && Given(unread[i], &file)) ierr = NoEffect(comm, unread[i], file, why);
+      if (strncasecmp(unread[i], "fieldsplit_", 11) && strncasecmp(unread[i], "redundant_", 10) && strncasecmp(unread[i], "sub_", 4) && Given(unread[i], &file)) ierr = NoEffect(comm, unread[i], file, why);
     } else ierr = RaiseUnknown(comm, unread[i], "unknown or unused");
   }
   PetscCall(PetscFree(unread));
