@@ -10,6 +10,8 @@ typedef struct {
   PetscReal h_edge;          /* spacing of the non-mortar nodes there */
   PetscReal peak_pressure;   /* largest nodal contact pressure */
   PetscReal pressure_l2_rel; /* ||p_h - p||_L2(0, 1.5a) / ||p||_L2(0, 1.5a), p_h piecewise linear */
+  PetscReal pressure_even_l2_rel; /* a whole model: the same of p_h's even part (p_h(x) + p_h(-x))/2 on [-1.5a, 1.5a], */
+  PetscReal pressure_odd_rel;     /* and the norm of its odd part over p's (their squares sum to pressure_l2_rel's) */
 } M2dHertzResult;
 /* plane strain Hertz for a cylinder (radius R, load P per unit thickness) on a
  * half-space, centred at x = 0 and pressing in y; a half model (the pair on
@@ -21,8 +23,6 @@ typedef struct {
   PetscReal c_exact;      /* Cattaneo-Mindlin: a sqrt(1 - Q/(mu P)), Q the pair's tangential force */
   PetscReal shear_l2_rel; /* relative L2 error of the shear traction's even part against Cattaneo-Mindlin's q(x) on [-1.5a, 1.5a] */
   PetscReal shear_odd_rel; /* the odd part's norm over q's (zero for half-spaces: the finite bodies' own shear) */
-  PetscReal pressure_even_l2_rel; /* the same for the pressure against Hertz's: its even part's error, */
-  PetscReal pressure_odd_rel;     /* and its odd part (the moment the shear sends through a finite contact) */
 } M2dCattaneoResult;
 /* Cattaneo-Mindlin for pair c (a whole cylinder, -cattaneo) after Hertz h:
  * the stick zone and the shear traction q(x) = mu p0 (sqrt(1 - x^2/a^2) -

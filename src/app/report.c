@@ -84,7 +84,7 @@ static PetscErrorCode SummarizeHertz(M2dProblem *pb, PetscInt k, PetscBool first
   const M2dUnits       *un = &pb->units;
   const char           *pk = pb->s.npair > 1 ? " " : "", *pn = pb->s.npair > 1 ? pb->s.pair[k].nm : "";
   const char           *keys[11] = {"pressure_l2_rel", "half_width", "hertz_a", "hertz_p0", "hertz_radius", "stick_half_width", "stick_half_width_exact", "shear_l2_rel", "shear_odd_rel", "pressure_even_l2_rel", "pressure_odd_rel"};
-  PetscReal             vals[11] = {h->pressure_l2_rel, h->half_width * un->L, h->a * un->L, h->p0 * un->S, pb->user->pair[k].hertz_radius, e->cm.c * un->L, e->cm.c_exact * un->L, e->cm.shear_l2_rel, e->cm.shear_odd_rel, e->cm.pressure_even_l2_rel, e->cm.pressure_odd_rel};
+  PetscReal             vals[11] = {h->pressure_l2_rel, h->half_width * un->L, h->a * un->L, h->p0 * un->S, pb->user->pair[k].hertz_radius, e->cm.c * un->L, e->cm.c_exact * un->L, e->cm.shear_l2_rel, e->cm.shear_odd_rel, h->pressure_even_l2_rel, h->pressure_odd_rel};
   PetscBool             cm = (PetscBool)(pb->s.cattaneo && pb->contact.pair[k].mu > 0);
 
   PetscFunctionBeginUser;

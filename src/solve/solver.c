@@ -145,7 +145,7 @@ static PetscErrorCode Factored(KSP ksp, PetscBool *factored)
 }
 
 /* the one line for a failed linear solve */
-static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal augment)
+static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal gamma)
 {
   KSPConvergedReason reason;
   MPI_Comm           comm = PetscObjectComm((PetscObject)ksp);
@@ -153,7 +153,7 @@ static PetscErrorCode LinearSolveFailed(KSP ksp, PetscBool contact, PetscReal au
   PetscFunctionBeginUser;
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   if (reason > 0) PetscFunctionReturn(0);
-  if (contact) PetscCall(KKTFieldsplitCheck(ksp, augment));
+  if (contact) PetscCall(KKTFieldsplitCheck(ksp, gamma));
   PetscCall(KKTKrylovCheck(ksp, "linear solve failed", PETSC_TRUE));
   SETERRQ(comm, PETSC_ERR_NOT_CONVERGED, "linear solve failed: %s (check the supports: is every body held?)", KSPConvergedReasons[reason]);
 }
@@ -192,7 +192,7 @@ static PetscErrorCode SolveLinearIterative(M2dProblem *pb, M2dSolution *sol)
 }
 
 /* no contact, or every candidate held closed: one linear solve */
-static PetscErrorCode SolveLinear(M2dProblem *pb, PetscReal augment, M2dSolution *sol)
+static PetscErrorCode SolveLinear(M2dProblem *pb, M2dSolution *sol)
 {
   KSP      ksp;
   PetscBool contact = (PetscBool)(sol->path == M2D_PATH_TIED);
@@ -208,7 +208,7 @@ static PetscErrorCode SolveLinear(M2dProblem *pb, PetscReal augment, M2dSolution
     PetscCall(KKTSolve(&pb->kkt, ksp, sol->u, sol->lam));
     PetscCall(VecSet(sol->active, 1.0));
   } else PetscCall(KSPSolve(ksp, pb->f, sol->u));
-  PetscCall(LinearSolveFailed(ksp, contact, augment));
+  PetscCall(LinearSolveFailed(ksp, contact, contact ? pb->kkt.gamma : 0));
   PetscCall(KSPGetIterationNumber(ksp, &sol->ksp_its));
   PetscCall(Factored(ksp, &sol->factored));
   PetscCall(KSPDestroy(&ksp));
@@ -271,7 +271,7 @@ PetscErrorCode M2dSolverSolve(M2dProblem *pb, const M2dSolverChoice *c, M2dSolut
         its  = sol->as.iterations;
         ierr = M2dActiveSetStep(as, sol->u, sol->lam, sol->active, sol->slip, &sol->as);
         its  = sol->as.iterations - its;
-      } else ierr = SolveLinear(pb, c->kkt_augment, sol);
+      } else ierr = SolveLinear(pb, sol);
       if (!ierr && n > 1) ierr = KeepStep(pb, sol, k, stage, step, its);
     }
   sol->nstep = k;
