@@ -8,7 +8,7 @@
  * lists in the order of their first entry; list elements in index order (an
  * index with no entry is written as {}).  Setting a key again replaces its
  * value.  Storage grows as needed; a failed allocation or a name used both as
- * a key and as an object/list is remembered and raised by M2dSummaryWrite, so
+ * a key and as an object/list is remembered (err, errmsg: the writer raises it), so
  * no entry is ever dropped silently.  README.md documents the keys. */
 #ifndef M2D_SUMMARY_H
 #define M2D_SUMMARY_H
@@ -26,7 +26,7 @@ typedef struct {
 typedef struct {
   PetscInt         n, cap;
   M2dSummaryEntry *e;
-  PetscErrorCode   err;        /* first failure, raised by M2dSummaryWrite */
+  PetscErrorCode   err;        /* first failure, raised by the writer */
   char             errmsg[256];
 } M2dSummary;
 
@@ -44,16 +44,13 @@ PetscErrorCode M2dSummaryListString(M2dSummary *s, const char *list, PetscInt in
 PetscErrorCode M2dSummaryListArray(M2dSummary *s, const char *list, PetscInt index, const char *key, PetscInt n, const PetscReal v[]);
 
 /* Print the summary as one JSON object (a failure recorded by the setters is
- * not checked here: M2dSummaryWrite raises it). Not collective. */
+ * not checked here: the caller raises s->err first). Not collective. */
 void M2dSummaryPrint(FILE *fp, const M2dSummary *s);
-/* Write the summary to path (rank 0 writes, through a temporary renamed when
- * complete; NULL or "": nothing).  Collective on comm; errors on every rank. */
-PetscErrorCode M2dSummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s);
 /* Free the entries (the struct itself is the caller's); s is empty afterwards. */
 PetscErrorCode M2dSummaryDestroy(M2dSummary *s);
 
 /* Earlier names, kept for existing callers: they record a failure in s (raised
- * by M2dSummaryWrite) instead of returning it. */
+ * by the writer) instead of returning it. */
 void           SummaryReal(M2dSummary *s, const char *section, const char *key, PetscReal v);
 void           SummaryInt(M2dSummary *s, const char *section, const char *key, PetscInt v);
 void           SummaryString(M2dSummary *s, const char *section, const char *key, const char *v);

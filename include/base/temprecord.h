@@ -5,11 +5,6 @@
 #ifndef M2D_TEMPRECORD_H
 #define M2D_TEMPRECORD_H
 #include <stddef.h>
-/* Record the file path (before it exists): its slot, or -1 when the path is
- * too long or the table is full (then nothing is recorded). */
-int  M2dTempRecordFile(const char *path);
-/* Stop tracking it (removed, or kept on purpose); slot < 0: no-op. */
-void M2dTempForgetFile(int slot);
 /* $TMPDIR, or /tmp when it is unset or empty. */
 const char *M2dTempDir(void);
 /* Before MPI_Init (Open MPI creates a missing TMPDIR and fails in an unusable

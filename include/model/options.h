@@ -19,9 +19,6 @@ PetscErrorCode M2dOptionsReal(PetscOptionItems *PetscOptionsObject, const char *
 /* real option whose default is "auto" (-help shows it): *set is PETSC_FALSE
  * (and *value untouched) when it is absent or "auto", else *value is the number */
 PetscErrorCode M2dOptionsRealAuto(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscReal *value, PetscBool *set);
-/* 1 to max comma-separated finite numbers: on entry values[0..*n-1] are the
- * default, on return the values given (or the default) and their count */
-PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, PetscReal values[], PetscInt *n);
 /* integer option (base 10, nothing else in the value) */
 /* text itself when at most 80 characters, else its start, its end and its
  * length in buf: a value quoted in a message never pushes the reason out of

@@ -288,32 +288,3 @@ void M2dSummaryPrint(FILE *fp, const M2dSummary *s)
     }
   fprintf(fp, "\n}\n");
 }
-
-static PetscErrorCode WriteJSON(const char *path, const M2dSummary *s)
-{
-  M2dFile f;
-
-  PetscFunctionBeginUser;
-  PetscCall(M2dFileOpen(path, PETSC_TRUE, &f));
-  M2dSummaryPrint(f.fp, s);
-  PetscCall(M2dFileCommit(&f));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode M2dSummaryWrite(MPI_Comm comm, const char *path, const M2dSummary *s)
-{
-  PetscMPIInt    rank;
-  PetscErrorCode ierr = 0;
-  char           err[1024] = "";
-
-  PetscFunctionBeginUser;
-  if (!path || !path[0]) PetscFunctionReturn(0);
-  PetscCheck(!s->err, comm, PETSC_ERR_ARG_WRONG, "%s", s->errmsg);
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    ierr = WriteJSON(path, s);
-    if (ierr) PetscCall(PetscStrncpy(err, M2dFirstError(), sizeof(err)));
-  }
-  PetscCall(M2dCheckCollective(comm, ierr ? PETSC_TRUE : PETSC_FALSE, err));
-  PetscFunctionReturn(0);
-}

@@ -261,16 +261,6 @@ static void Forget(int *slot)
   *slot = -1;
 }
 
-int M2dTempRecordFile(const char *path)
-{
-  return Record(path, 0);
-}
-
-void M2dTempForgetFile(int slot)
-{
-  Forget(&slot);
-}
-
 /* a process that exited but was not reaped yet (a zombie, e.g. a rank whose
  * mpiexec is gone) still answers kill(pid, 0): look at its state too */
 static PetscBool Gone(long pid)

@@ -184,37 +184,6 @@ PetscErrorCode M2dOptionsRealAuto(PetscOptionItems *PetscOptionsObject, const ch
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode M2dOptionsRealList(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt max, PetscReal values[], PetscInt *n)
-{
-  char      full[256], buf[VALUE_LEN], *tok, *save = NULL;
-  PetscBool given;
-  PetscInt  k = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(Raw(PetscOptionsObject, name, full, buf, &given));
-  if (given) { /* check every entry first: PETSc's own message names neither the option nor the entry */
-    for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save), k++) {
-      if (k == max) {
-        PetscCall(M2dOptionsDefer("option %s: at most %" PetscInt_FMT " values", full, max));
-        PetscFunctionReturn(0);
-      }
-      if (!IsFinite(tok)) {
-        char shown[128];
-        PetscCall(M2dOptionsDefer("option %s: '%s' is not a finite number%s", full, M2dShown(tok, shown, sizeof(shown)), M2dUnderflows(tok) ? " (nonzero but below double precision's range)" : ""));
-        PetscFunctionReturn(0);
-      }
-    }
-    if (k == 0) {
-      PetscCall(M2dOptionsDefer("option %s: needs a value", full));
-      PetscFunctionReturn(0);
-    }
-  }
-  k = given ? max : *n;
-  PetscCall(PetscOptionsRealArray(name, help, "", values, &k, &given));
-  if (given) *n = k;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode M2dOptionsInt(PetscOptionItems *PetscOptionsObject, const char *name, const char *help, PetscInt def, PetscInt *value, PetscBool *set)
 {
   PetscBool ok;
