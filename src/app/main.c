@@ -9,7 +9,7 @@
  * supports, KKT blocks), Solve (the path chosen in solver.h; the answer's own
  * checks in verify.h), Output (report.h: interface results, comparisons with
  * exact answers, HDF5/XDMF, VTU, CSV, JSON summary). */
-#define _GNU_SOURCE /* malloc_usable_size */
+#define _POSIX_C_SOURCE 200809L /* posix_memalign */
 #include "about.h"
 #include "logging.h"
 #include "optcheck.h"
@@ -20,7 +20,7 @@
 #include "helpprint.h"
 #include "step.h"
 #include "util.h"
-#include <malloc.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -120,13 +120,26 @@ static PetscErrorCode AlignedFree(void *p, int line, const char fn[], const char
   return 0;
 }
 
+/* realloc keeps the contents; a block it returns off the 64-byte boundary is
+ * copied to one on it (no malloc_usable_size: not every C library has it) */
 static PetscErrorCode AlignedRealloc(size_t n, int line, const char fn[], const char file[], void **r)
 {
   void *q = NULL;
-  if (n && AlignedMalloc(n, PETSC_FALSE, line, fn, file, &q)) return PETSC_ERR_MEM;
-  if (*r && q) memcpy(q, *r, PetscMin(n, malloc_usable_size(*r)));
-  free(*r);
+  (void)line, (void)fn, (void)file;
+  if (!n) {
+    free(*r);
+    *r = NULL;
+    return 0;
+  }
+  if (!(q = realloc(*r, n))) return PETSC_ERR_MEM;
   *r = q;
+  if ((uintptr_t)q % 64 == 0) return 0;
+  if (posix_memalign(r, 64, n)) {
+    *r = q;
+    return PETSC_ERR_MEM;
+  }
+  memcpy(*r, q, n);
+  free(q);
   return 0;
 }
 
