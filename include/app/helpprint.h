@@ -14,7 +14,7 @@
 #include <petscsys.h>
 
 /* Before PetscInitialize: collect what PETSc's help printer prints (rank 0)
- * and what goes to stdout (PETSc prints some help there directly).
+ * and what PETSc prints to stdout (PetscVFPrintf: the type lists).
  * What is never printed by M2dHelpPrint is printed as it came at exit (so
  * -version and -help intro print as before).  Returns 0. */
 int M2dHelpCapture(void);
@@ -22,7 +22,7 @@ int M2dHelpCapture(void);
  * static copy).  Returns 0. */
 int M2dHelpArgs(int *argc, char ***argv);
 /* After PetscInitialize without -help: print what was collected as it came,
- * and give PetscHelpPrintf and stdout back.  Not collective. */
+ * and give PetscHelpPrintf and PetscVFPrintf back.  Not collective. */
 PetscErrorCode M2dHelpRelease(void);
 /* With -help: intro (the program's help text), the program's sections by job, then with -help_petsc PETSc's
  * banner and sections as PETSc printed them, else one line naming

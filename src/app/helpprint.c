@@ -1,5 +1,5 @@
 /* helpprint.c - -help: the program's options first, by job (helpprint.h) */
-#define _POSIX_C_SOURCE 200809L /* open_memstream, strdup */
+#define _POSIX_C_SOURCE 200809L /* strdup */
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -17,14 +17,11 @@ typedef struct {
 
 static HelpChunk *chunks;
 static int        nchunk, capchunk, printed;
-/* PETSc prints the type lists of -ksp_type, -pc_type, ... to PETSC_STDOUT, not
- * through PetscHelpPrintf: under -help PETSC_STDOUT is a memory stream whose
- * new text belongs to the section being printed; so is stdout (PETSc 3.18's
- * PetscOptionsFList prints its list of types to stdout itself; glibc lets a
- * program assign stdout) */
-static FILE  *stream, *saved_stdout;
-static char  *stream_buf;
-static size_t stream_len, stream_done;
+/* PETSc prints the type lists of -ksp_type, -pc_type, ... not through
+ * PetscHelpPrintf but with PetscFPrintf to stdout (PetscOptionsFList in 3.18):
+ * PetscVFPrintf is taken too, and its text on stdout belongs to the section
+ * being printed */
+static PetscErrorCode (*petsc_vfprintf)(FILE *, const char[], va_list);
 
 /* the program's sections, in the order they are printed (a title prefix each) */
 static const char *const job_order[] = {
@@ -55,32 +52,6 @@ static int NewChunk(const char *title)
   return 0;
 }
 
-static int Append(const char *s, size_t n);
-
-/* what PETSc wrote to PETSC_STDOUT since the last call, into the current section */
-static void TakeStream(void)
-{
-  if (!stream) return;
-  fflush(stream);
-  if (stream_len > stream_done) {
-    size_t from = stream_done;
-    stream_done = stream_len;
-    (void)Append(stream_buf + from, stream_len - from);
-  }
-}
-
-static void CloseStream(void)
-{
-  if (!stream) return;
-  TakeStream();
-  if (stdout == stream) stdout = saved_stdout;
-  if (PETSC_STDOUT == stream) PETSC_STDOUT = stdout;
-  fclose(stream);
-  free(stream_buf);
-  stream     = NULL;
-  stream_buf = NULL;
-}
-
 static int Append(const char *s, size_t n)
 {
   HelpChunk *c;
@@ -100,30 +71,36 @@ static int Append(const char *s, size_t n)
   return 0;
 }
 
+/* format (PETSc's formatting: a real 1 prints as "1.") into a new buffer, or NULL */
+static char *Format(const char format[], va_list ap)
+{
+  for (size_t size = 4096, full = 0;; size = full + 1) {
+    char   *buf = (char *)malloc(size);
+    va_list aq;
+    if (!buf) return NULL;
+    full = 0;
+    va_copy(aq, ap);
+    if (PetscVSNPrintf(buf, size, format, &full, aq)) full = 0;
+    va_end(aq);
+    if (full < size) return buf;
+    free(buf);
+  }
+}
+
 /* PETSc calls it for every piece of help text; a section starts with RULE and "TITLE:" */
 static PetscErrorCode Collect(MPI_Comm comm, const char format[], ...)
 {
   va_list ap;
-  int     init = 0, rank = 0, n;
+  int     init = 0, rank = 0;
   char   *buf;
 
   MPI_Initialized(&init);
   if (init) MPI_Comm_rank(comm, &rank);
   if (rank) return 0;
-  TakeStream();
-  /* PETSc's formatting (a real 1 prints as "1."), into a buffer that fits */
-  for (size_t size = 4096, full = 0;; size = full + 1) {
-    full = 0;
-    if (!(buf = (char *)malloc(size))) return 0;
-    va_start(ap, format);
-    if (PetscVSNPrintf(buf, size, format, &full, ap)) full = 0;
-    va_end(ap);
-    if (full < size) {
-      n = (int)strlen(buf);
-      break;
-    }
-    free(buf);
-  }
+  va_start(ap, format);
+  buf = Format(format, ap);
+  va_end(ap);
+  if (!buf) return 0;
   if (!strncmp(buf, RULE, strlen(RULE))) {
     const char *t = buf + strlen(RULE);
     size_t      k = strcspn(t, "\n");
@@ -137,9 +114,27 @@ static PetscErrorCode Collect(MPI_Comm comm, const char format[], ...)
       return 0;
     }
   }
-  (void)Append(buf, (size_t)n);
+  (void)Append(buf, strlen(buf));
   free(buf);
   return 0;
+}
+
+/* PETSc's text on stdout, into the current section (PetscFPrintf prints on rank 0 only) */
+static PetscErrorCode CollectStdout(FILE *fd, const char format[], va_list ap)
+{
+  char *buf;
+
+  if (fd != stdout && fd != PETSC_STDOUT) return petsc_vfprintf(fd, format, ap);
+  if ((buf = Format(format, ap))) (void)Append(buf, strlen(buf));
+  free(buf);
+  return 0;
+}
+
+/* PETSc's printers back */
+static void Restore(void)
+{
+  if (PetscHelpPrintf == Collect) PetscHelpPrintf = PetscHelpPrintfDefault;
+  if (PetscVFPrintf == CollectStdout) PetscVFPrintf = petsc_vfprintf;
 }
 
 static void Free(void)
@@ -157,8 +152,7 @@ static void Free(void)
 static void AtExit(void)
 {
   (void)signal(SIGPIPE, SIG_IGN); /* stdout closed by its reader (mortar2d -help intro | head) */
-  if (PetscHelpPrintf == Collect) PetscHelpPrintf = PetscHelpPrintfDefault;
-  CloseStream();
+  Restore();
   for (int i = 0; i < nchunk && !printed; i++)
     if (chunks[i].text) fputs(chunks[i].text, stdout);
   fflush(stdout);
@@ -168,13 +162,9 @@ static void AtExit(void)
 int M2dHelpCapture(void)
 {
   PetscHelpPrintf = Collect;
+  petsc_vfprintf  = PetscVFPrintf;
+  PetscVFPrintf   = CollectStdout;
   (void)atexit(AtExit);
-  stream = open_memstream(&stream_buf, &stream_len);
-  if (stream) {
-    saved_stdout = stdout;
-    stdout       = stream;
-    PETSC_STDOUT = stream;
-  }
   return 0;
 }
 
@@ -199,8 +189,7 @@ int M2dHelpArgs(int *argc, char ***argv)
 PetscErrorCode M2dHelpRelease(void)
 {
   PetscFunctionBeginUser;
-  if (PetscHelpPrintf == Collect) PetscHelpPrintf = PetscHelpPrintfDefault;
-  CloseStream();
+  Restore();
   for (int i = 0; i < nchunk; i++)
     if (chunks[i].text) PetscCall(PetscFPrintf(PETSC_COMM_SELF, PETSC_STDOUT, "%s", chunks[i].text));
   printed = 1;
@@ -216,8 +205,7 @@ PetscErrorCode M2dHelpPrint(MPI_Comm comm, const char *intro)
   char       *done;
 
   PetscFunctionBeginUser;
-  if (PetscHelpPrintf == Collect) PetscHelpPrintf = PetscHelpPrintfDefault;
-  CloseStream();
+  Restore();
   PetscCall(PetscOptionsHasName(NULL, NULL, "-help_petsc", &petsc));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   printed = 1;
