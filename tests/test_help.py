@@ -1,7 +1,8 @@
 """-help documents the program: every option of ours is listed with a non-empty
 default and a help string that fits on one line, the program's options first,
 grouped by job in the README's order; PETSc's own options only with -help_petsc,
-after the program's. Both exit 0 without running.
+after the program's. Both exit 0 without running. docs/options.md, the full
+reference, names every option of the program's sections.
 
 The program's options are the lines of its own -help sections ("mortar2d: JOB"
 and one "Material of body 'NAME'" per body). A line reads
@@ -12,9 +13,10 @@ and one "Material of body 'NAME'" per body). A line reads
 An empty default (an empty string option) must say "default: X" in its help.
 The help text (without PETSc's decorations) is at most HELP_MAX characters and
 nothing in our sections is a continuation line."""
+import os
 import re
 
-from m2d import check, run
+from m2d import SRC, check, run
 
 HELP_MAX = 100
 OURS = ["-mesh", "-mesh_dir", "-mesh_scale", "-mesh_partitioner", "-mesh_check", "-geo", "-geo_dir", "-bodies",
@@ -91,6 +93,11 @@ for opt in OURS:
     check(opt in found, "%s is documented by -help" % opt)
 for opt, value in DEFAULTS.items():
     check(found.get(opt) == value, "%s default is %r (-help shows %r)" % (opt, value, found.get(opt)))
+# docs/options.md, the full reference, names every option -help lists (stage K's as -stageK_, body A's as -A_)
+with open(os.path.join(SRC, "docs", "options.md")) as f:
+    reference = f.read()
+missing = [o for o in found if re.sub(r"^-(lower|upper)_", "-A_", re.sub(r"^-stage\d+_", "-stageK_", o)) not in reference]
+check(not missing, "docs/options.md names every option of -help (missing: %s)" % missing)
 # -help_petsc: the same program sections first, then PETSc's solver options (the
 # solvers configured as for a run) and PETSc's general options
 rc, out, err = run(["-help_petsc", "-bodies", "lower,upper"])
