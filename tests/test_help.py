@@ -110,3 +110,8 @@ ksp = [i for i, l in enumerate(plines) if l.strip().startswith("-ksp_type")]
 check(ksp and min(ksp) > last_ours, "-help_petsc lists PETSc's -ksp_type after the program's options")
 check(any(l.strip().startswith("-log_view") for l in plines[last_ours:]), "-help_petsc lists PETSc's -log_view")
 check(not any(l.strip().startswith("-ksp_type") for l in plines[:last_ours]), "nothing of PETSc's before the program's options")
+# a refusal under -help is its one line, without the help collected before it
+for extra in (["-hertz"], ["-adapt"]):
+    rc, out, err = run(["-help"] + extra, check=False)
+    lines = [l for l in (out + err).splitlines() if l.strip()]
+    check(rc == 1 and len(lines) == 1 and ("option %s" % extra[0]) in lines[0], "-help %s (no pair, no .geo): one line naming %s, exit 1 (exit %d, %d lines)" % (extra[0], extra[0], rc, len(lines)))

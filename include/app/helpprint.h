@@ -24,6 +24,9 @@ int M2dHelpArgs(int *argc, char ***argv);
 /* After PetscInitialize without -help: print what was collected as it came,
  * and give PetscHelpPrintf and PetscVFPrintf back.  Not collective. */
 PetscErrorCode M2dHelpRelease(void);
+/* An error ended the run: its one line is the output, not the help collected
+ * so far (-help -hertz without a pair). Not collective; idempotent. */
+void           M2dHelpDiscard(void);
 /* With -help: intro (the program's help text), the program's sections by job, then with -help_petsc PETSc's
  * banner and sections as PETSc printed them, else one line naming
  * -help_petsc; gives PetscHelpPrintf back to PETSc.  Collective on comm. */

@@ -186,6 +186,13 @@ int M2dHelpArgs(int *argc, char ***argv)
   return 0;
 }
 
+void M2dHelpDiscard(void)
+{
+  Restore();
+  printed = 1;
+  Free();
+}
+
 PetscErrorCode M2dHelpRelease(void)
 {
   PetscFunctionBeginUser;

@@ -176,6 +176,7 @@ static int Program(int argc, char **argv)
     if (rank == 0) fprintf(stderr, "mortar2d: error: %s\n", M2dFirstError());
     fflush(stderr);
     OutputWriteFailure(M2dFirstError()); /* the summary says so (once the output paths were checked) */
+    M2dHelpDiscard();
     /* objects of the failed run are not freed; skip PETSc's leak report */
     PetscOptionsClearValue(NULL, "-malloc_dump");
     M2dSignalsBeforeFinalize();
